@@ -1,0 +1,206 @@
+# voronoid -- build, run, test, bench.
+#
+#   make            release build into build/ (libvor.a, voronoi, voronoid)
+#   make run        build and start the service on 127.0.0.1:8080
+#   make test       sanitizer build (ASan+UBSan) into build/asan/, every test
+#   make tsan       the server's tests under ThreadSanitizer (make test runs it)
+#   make bench      benchmark tables and plots into build/bench/
+#   make deps       install missing Debian packages (root), or say how
+#
+# Sources are found by wildcard: core/*.c -> libvor, api/*.c api/*.cc ->
+# libvorapi, cli/*.c -> voronoi, server/*.c -> voronoid, tests/<area>/test_*.c
+# -> one cmocka binary each. Adding a file needs no edit here.
+
+SHELL := /bin/bash
+CC ?= gcc
+ifeq ($(origin CC),default)
+CC := gcc
+endif
+CXX := g++
+PKG := pkg-config
+
+# Debian packages the build and the tests need (make deps installs them).
+DEPS_BUILD := pkg-config gcc g++ make libgmp-dev libjansson-dev \
+              libmicrohttpd-dev libcmocka-dev libcurl4-openssl-dev zlib1g-dev \
+              libfast-float-dev libdragonbox-dev
+DEPS_TEST := curl chromium nginx-light
+# node and npm: the machine's own if it has them (a NodeSource build bundles
+# npm and conflicts with Debian's npm package), Debian's otherwise.
+DEPS_NODE := $(if $(shell command -v npm),,nodejs npm)
+DEPS_BENCH := libcgal-dev wrk hyperfine gnuplot-nox
+
+WARN := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
+        -Wmissing-prototypes -Werror
+BASE_CFLAGS := -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE \
+               -ffp-contract=off -fno-fast-math -g $(WARN)
+BASE_CXXFLAGS := -std=c++17 -ffp-contract=off -g -Wall -Wextra -Werror
+DRAGONBOX_CFLAGS := -I/usr/include/dragonbox-1.1.3
+
+release_FLAGS := -O2 -DNDEBUG
+asan_FLAGS := -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
+              -fno-omit-frame-pointer
+tsan_FLAGS := -O1 -fsanitize=thread -fno-omit-frame-pointer
+
+pc = $(shell $(PKG) --cflags $(1) 2>/dev/null)
+pl = $(shell $(PKG) --libs $(1) 2>/dev/null)
+
+CORE_LIBS = $(call pl,gmp) -lm
+API_CFLAGS = $(call pc,jansson) $(DRAGONBOX_CFLAGS)
+API_LIBS = $(call pl,jansson) $(call pl,zlib) -lstdc++
+SRV_CFLAGS = $(call pc,libmicrohttpd) $(call pc,zlib)
+SRV_LIBS = $(call pl,libmicrohttpd) -lpthread
+TEST_CFLAGS = $(call pc,cmocka) $(call pc,libcurl)
+TEST_LIBS = $(call pl,cmocka) $(call pl,libcurl)
+
+CORE_SRC := $(wildcard core/*.c)
+API_SRC := $(wildcard api/*.c)
+API_CXX := $(wildcard api/*.cc)
+CLI_SRC := $(wildcard cli/*.c)
+SRV_SRC := $(wildcard server/*.c)
+SRV_LIB_SRC := $(filter-out server/main.c,$(SRV_SRC))
+SUPPORT_SRC := $(wildcard tests/support/*.c)
+TESTS_CORE := $(wildcard tests/core/test_*.c)
+TESTS_API := $(wildcard tests/api/test_*.c) $(wildcard tests/cli/test_*.c)
+TESTS_SRV := $(wildcard tests/server/test_*.c)
+TESTS_INT := $(wildcard tests/integration/test_*.c)
+
+.PHONY: all run test tsan bench deps deps-test deps-bench clean unit \
+        integration browser deploy-test openapi-lint check-deps fuzz
+.DELETE_ON_ERROR:
+
+all: deps $(B)/voronoi $(B)/voronoid
+
+# ---- one variant of everything (release, asan, tsan) ---------------------
+# $(1) = variant name, $(2) = output directory
+define VARIANT
+$(2)/%.o: %.c | check-deps
+	@mkdir -p $$(@D)
+	$$(CC) $$(BASE_CFLAGS) $$($(1)_FLAGS) $$(API_CFLAGS) $$(SRV_CFLAGS) \
+	    $$(TEST_CFLAGS) -MMD -MP -c $$< -o $$@
+$(2)/%.o: %.cc | check-deps
+	@mkdir -p $$(@D)
+	$$(CXX) $$(BASE_CXXFLAGS) $$($(1)_FLAGS) $$(DRAGONBOX_CFLAGS) -MMD -MP \
+	    -c $$< -o $$@
+$(2)/libvor.a: $$(CORE_SRC:%.c=$(2)/%.o)
+	@mkdir -p $$(@D); rm -f $$@; $$(if $$^,ar rcs $$@ $$^,printf '!<arch>\n' > $$@)
+$(2)/libvorapi.a: $$(API_SRC:%.c=$(2)/%.o) $$(API_CXX:%.cc=$(2)/%.o)
+	@mkdir -p $$(@D); rm -f $$@; $$(if $$^,ar rcs $$@ $$^,printf '!<arch>\n' > $$@)
+$(2)/libvorsrv.a: $$(SRV_LIB_SRC:%.c=$(2)/%.o)
+	@mkdir -p $$(@D); rm -f $$@; $$(if $$^,ar rcs $$@ $$^,printf '!<arch>\n' > $$@)
+$(2)/libvortest.a: $$(SUPPORT_SRC:%.c=$(2)/%.o)
+	@mkdir -p $$(@D); rm -f $$@; $$(if $$^,ar rcs $$@ $$^,printf '!<arch>\n' > $$@)
+$(2)/voronoi: $$(CLI_SRC:%.c=$(2)/%.o) $(2)/libvorapi.a $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(API_LIBS) $$(CORE_LIBS)
+$(2)/voronoid: $(2)/server/main.o $(2)/libvorsrv.a $(2)/libvorapi.a \
+               $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(SRV_LIBS) $$(API_LIBS) $$(CORE_LIBS)
+$(2)/tests/core/%: $(2)/tests/core/%.o $(2)/libvortest.a $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(TEST_LIBS) $$(CORE_LIBS)
+$(2)/tests/api/%: $(2)/tests/api/%.o $(2)/libvortest.a $(2)/libvorapi.a \
+                  $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(TEST_LIBS) $$(API_LIBS) $$(CORE_LIBS)
+$(2)/tests/cli/%: $(2)/tests/cli/%.o $(2)/libvortest.a $(2)/libvorapi.a \
+                  $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(TEST_LIBS) $$(API_LIBS) $$(CORE_LIBS)
+$(2)/tests/server/%: $(2)/tests/server/%.o $(2)/libvortest.a \
+                     $(2)/libvorsrv.a $(2)/libvorapi.a $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(TEST_LIBS) $$(SRV_LIBS) \
+	    $$(API_LIBS) $$(CORE_LIBS)
+$(2)/tests/integration/%: $(2)/tests/integration/%.o $(2)/libvortest.a \
+                          $(2)/libvorapi.a $(2)/libvor.a
+	$$(CC) $$($(1)_FLAGS) $$^ -o $$@ $$(TEST_LIBS) $$(API_LIBS) \
+	    $$(CORE_LIBS)
+endef
+
+# B is the output directory: parallel builds of one tree can use their own.
+B ?= build
+$(eval $(call VARIANT,release,$(B)))
+$(eval $(call VARIANT,asan,$(B)/asan))
+$(eval $(call VARIANT,tsan,$(B)/tsan))
+
+-include $(shell find $(B) -name '*.d' 2>/dev/null)
+
+tbin = $(patsubst %.c,$(1)/%,$(2))
+
+# ---- run -----------------------------------------------------------------
+run: all
+	./$(B)/voronoid --bind 127.0.0.1 --port 8080
+
+# ---- tests ---------------------------------------------------------------
+# Every test binary runs even when one fails; the target fails at the end
+# if any did.
+ASAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1 \
+            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+UNIT_BINS = $(call tbin,$(B)/asan,$(TESTS_CORE) $(TESTS_API) $(TESTS_SRV))
+INT_BINS = $(call tbin,$(B)/asan,$(TESTS_INT))
+
+unit: deps $(UNIT_BINS) $(B)/asan/voronoi
+	@fail=0; for t in $(UNIT_BINS); do \
+	    echo "== $$t"; \
+	    $(ASAN_ENV) VOR_CLI=$(B)/asan/voronoi ./$$t || fail=1; \
+	done; exit $$fail
+
+integration: deps $(INT_BINS) $(B)/asan/voronoid
+	@fail=0; for t in $(INT_BINS); do \
+	    echo "== $$t"; \
+	    $(ASAN_ENV) VOR_DAEMON=$(B)/asan/voronoid ./$$t || fail=1; \
+	done; exit $$fail
+
+TSAN_BINS = $(call tbin,$(B)/tsan,$(TESTS_SRV) $(TESTS_INT))
+tsan: deps $(TSAN_BINS) $(B)/tsan/voronoid
+	@fail=0; for t in $(TSAN_BINS); do \
+	    echo "== $$t (tsan)"; \
+	    TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+	    VOR_DAEMON=$(B)/tsan/voronoid VOR_TSAN=1 ./$$t || fail=1; \
+	done; exit $$fail
+
+# Browser, OpenAPI and deploy tests live in tests/<name>/run (executable);
+# each is skipped only if it does not exist yet.
+browser openapi-lint deploy-test: deps-test all
+	@d=tests/$(subst -test,,$(subst -lint,,$@)); \
+	if [ -x $$d/run ]; then $$d/run; else echo "$$d/run: none"; fi
+
+test: deps deps-test
+	@fail=0; failed=; \
+	for t in unit integration tsan openapi-lint browser deploy-test; do \
+	    $(MAKE) --no-print-directory $$t || { fail=1; failed="$$failed $$t"; }; \
+	done; \
+	if [ $$fail = 0 ]; then echo "make test: all passed"; \
+	else echo "make test: FAILED:$$failed"; fi; exit $$fail
+
+# ---- bench ---------------------------------------------------------------
+bench: deps deps-bench all
+	@if [ -x bench/run ]; then bench/run; else echo "bench/run: none"; fi
+
+# ---- dependencies --------------------------------------------------------
+# dpkg tells what is installed; apt-get installs the rest when we are root.
+define INSTALL_MISSING
+	@missing=$$(for p in $(1); do \
+	    dpkg-query -W -f='$${Status}' $$p 2>/dev/null | \
+	        grep -q 'install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	    if [ "$$(id -u)" = 0 ]; then \
+	        echo "installing:" $$missing; \
+	        export DEBIAN_FRONTEND=noninteractive; \
+	        apt-get update -qq && apt-get install -y -qq $$missing \
+	            >/dev/null || exit 1; \
+	    else \
+	        echo "missing Debian packages; run as root:"; \
+	        echo "  apt-get update && apt-get install -y" $$missing; \
+	        exit 1; \
+	    fi; \
+	fi
+endef
+
+deps:
+	$(call INSTALL_MISSING,$(DEPS_BUILD))
+deps-test:
+	$(call INSTALL_MISSING,$(DEPS_TEST) $(DEPS_NODE))
+deps-bench:
+	$(call INSTALL_MISSING,$(DEPS_BENCH))
+
+check-deps: ;
+
+clean:
+	rm -rf $(B)

@@ -1,0 +1,109 @@
+/* internal.h -- contracts shared between libvor's source files.
+ *
+ * Not installed, not for callers of the library. Names are vor__ (internal)
+ * or vor_ where tests and the codec may use them too.
+ *
+ * How vor_compute() (core/voronoi.c) runs:
+ *   1. sites->n < 3, or all sites collinear (exact orient2d): the degenerate
+ *      diagram of parallel lines is built by vor__diagram_degenerate(); the
+ *      algorithms below are never called for such input.
+ *   2. otherwise the algorithm's entry point; every one has the signature
+ *      vor__algorithm_fn and fills the diagram through vor__diagram_build(),
+ *      which alone decides the canonical form.
+ */
+#ifndef VOR_INTERNAL_H
+#define VOR_INTERNAL_H
+
+#include "vor.h"
+
+/* ---- Exact predicates (core/predicates.c) --------------------------------
+ * Exact for all finite double inputs: a floating-point filter answers when
+ * its error bound proves the sign; otherwise exact expansion arithmetic (and
+ * GMP where the exponent range of the operands would make expansions
+ * underflow). Points are pointers to x,y pairs. */
+
+/* +1 if c lies to the left of a->b (a, b, c counter-clockwise), -1 if to the
+ * right, 0 if collinear. */
+int vor_orient2d(const double *a, const double *b, const double *c);
+
+/* For counter-clockwise a, b, c: +1 if d lies strictly inside their
+ * circumcircle, -1 strictly outside, 0 on it. (For clockwise a, b, c the sign
+ * is reversed, as the determinant's.) */
+int vor_incircle(const double *a, const double *b, const double *c,
+                 const double *d);
+
+/* ---- Spatial order (core/hilbert.c) --------------------------------------
+ * Fills order[0..n-1] with the site indices 0..n-1 in an order suited to
+ * incremental insertion (Hilbert curve with biased randomised rounds, BRIO),
+ * deterministic for a given input. VOR_ENOMEM on failure. */
+vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order);
+
+/* ---- Delaunay mesh (core/mesh.h, core/mesh.c) ----------------------------
+ * delaunator's representation: half-edge e goes from tri[e] to
+ * tri[vor__next(e)] in triangle e/3; triangles counter-clockwise;
+ * adj[e] is the opposite half-edge (from tri[next(e)] to tri[e]) or -1 on
+ * the convex hull. Finite triangles only in the public form. */
+typedef struct vor__mesh {
+    size_t n_tri;
+    size_t cap_tri;
+    uint32_t *tri;  /* 3 * n_tri site indices */
+    int32_t *adj;   /* 3 * n_tri */
+} vor__mesh;
+
+static inline uint32_t vor__next(uint32_t e) { return e % 3 == 2 ? e - 2 : e + 1; }
+static inline uint32_t vor__prev(uint32_t e) { return e % 3 == 0 ? e + 2 : e - 1; }
+
+/* ---- Algorithms ----------------------------------------------------------
+ * Each gets >= 3 distinct sites not all collinear; on success *out is the
+ * canonical diagram; on error *out is NULL and nothing leaks. */
+typedef vor_status (*vor__algorithm_fn)(const vor_sites *s, vor_diagram **out);
+
+vor_status vor__fortune(const vor_sites *s, vor_diagram **out);
+vor_status vor__bowyer_watson(const vor_sites *s, vor_diagram **out);
+vor_status vor__flip(const vor_sites *s, vor_diagram **out);
+
+/* Delaunay triangulations alone, for the mesh checker and the tests: fill
+ * *m (zeroed by the caller) with a Delaunay triangulation of the sites; free
+ * with vor__mesh_clear. */
+vor_status vor__bowyer_watson_mesh(const vor_sites *s, vor__mesh *m);
+vor_status vor__flip_mesh(const vor_sites *s, vor__mesh *m);
+void vor__mesh_clear(vor__mesh *m);
+
+/* Verifies a Delaunay mesh: twin symmetry, counter-clockwise triangles, the
+ * hull convex and containing every site, exact empty circumcircle across
+ * every interior edge (local Delaunay, which implies global), Euler count.
+ * 0 if valid, else non-zero with a reason in msg. */
+int vor__mesh_check(const vor__mesh *m, const vor_sites *s, char *msg,
+                    size_t msg_size);
+
+/* ---- Building the canonical diagram (core/diagram.c) ---------------------
+ * Converts a Delaunay mesh (any Delaunay triangulation of the sites: where
+ * 4+ sites are cocircular, triangles sharing a circumcircle are merged into
+ * one vertex, found exactly with vor_incircle) into the diagram. The mesh is
+ * consumed (cleared) to keep peak memory low. */
+vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
+                                vor_diagram **out);
+
+/* The generic builder every algorithm ends in. Input: n_vertices raw
+ * vertices (ids 0..n_vertices-1, cocircular centres already merged into one
+ * id) and n_edges raw edges, edges[2e], edges[2e+1] = the two sites (any
+ * order, distinct), ends[2e], ends[2e+1] = raw vertex ids or VOR_NONE (any
+ * order). Every raw vertex must be the end of at least one edge. The
+ * builder takes ownership of edges and ends (freed or reused, also on error).
+ * It derives each vertex's three smallest sites from the edges that meet
+ * there, computes coordinates with vor_circumcenter, ray directions with
+ * vor_bisector_dir (outward decided exactly with vor_orient2d), orders
+ * everything canonically and builds the counter-clockwise cells.
+ * Expected O(n). */
+vor_status vor__diagram_build(const vor_sites *s, size_t n_vertices,
+                              uint32_t *edges, int32_t *ends, size_t n_edges,
+                              vor_diagram **out);
+
+/* Non-zero if all sites are collinear (or n < 3). */
+int vor__all_collinear(const vor_sites *s);
+
+/* The diagram of n < 3 sites or of collinear sites: parallel lines between
+ * consecutive sites along the line. */
+vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out);
+
+#endif /* VOR_INTERNAL_H */

@@ -1,0 +1,217 @@
+/* vor.h -- libvor, the voronoid geometry library: public interface.
+ *
+ * libvor computes the Voronoi diagram (and its dual Delaunay triangulation)
+ * of a set of 2D points with one of three interchangeable algorithms:
+ * Fortune's sweep line, Bowyer-Watson incremental insertion and Lawson
+ * flipping. All three fill the same canonical result, so for the same input
+ * they return the identical diagram; that identity is the central test oracle.
+ *
+ * The library does no I/O, allocates only through malloc/realloc/free, keeps
+ * no global state, starts no threads and never aborts or exits on input or on
+ * a failed allocation: every fallible function returns a vor_status.
+ *
+ * Pipeline:
+ *
+ *     input xy --vor_sites_new--> vor_sites --vor_compute--> vor_diagram
+ *                                                  |
+ *                                      vor_clip (optional box) --> vor_clipped
+ *
+ * Indices: "input index" is a point's position in the caller's array;
+ * "site index" numbers the distinct points in order of first occurrence, so
+ * sorting by site index and sorting by input index agree.
+ */
+#ifndef VOR_VOR_H
+#define VOR_VOR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* ---- Status codes -------------------------------------------------------
+ * One table: enum name, HTTP status a service should answer with, message.
+ * The names (lower-cased, without VOR_E) appear in openapi.yaml as problem
+ * types. */
+#define VOR_STATUS_TABLE(X)                                                   \
+    X(VOR_OK, 200, "ok")                                                      \
+    X(VOR_ENOMEM, 503, "out of memory")                                       \
+    X(VOR_ENONFINITE, 422, "coordinate is not a finite number")               \
+    X(VOR_ETOOMANY, 413, "too many points")                                   \
+    X(VOR_EBOUNDS, 422, "bounds must be finite with xmin < xmax, ymin < ymax") \
+    X(VOR_EALGORITHM, 422, "unknown algorithm")                               \
+    X(VOR_EINVAL, 400, "invalid argument")                                    \
+    X(VOR_EUNAVAILABLE, 501, "algorithm not available")
+
+typedef enum vor_status {
+#define VOR__ENUM(name, http, msg) name,
+    VOR_STATUS_TABLE(VOR__ENUM)
+#undef VOR__ENUM
+    VOR_STATUS_COUNT
+} vor_status;
+
+/* Static message for a status; never NULL. */
+const char *vor_status_message(vor_status s);
+/* Enum name as a string ("VOR_ENONFINITE"); never NULL. */
+const char *vor_status_name(vor_status s);
+/* HTTP status a service should answer with. */
+int vor_status_http(vor_status s);
+
+/* ---- Algorithms --------------------------------------------------------- */
+typedef enum vor_algorithm {
+    VOR_FORTUNE = 0,
+    VOR_BOWYER_WATSON = 1,
+    VOR_FLIP = 2,
+    VOR_ALGORITHM_COUNT
+} vor_algorithm;
+
+/* "fortune", "bowyer-watson", "flip". */
+const char *vor_algorithm_name(vor_algorithm a);
+/* Parses one of the names above; VOR_EALGORITHM otherwise. */
+vor_status vor_algorithm_parse(const char *name, vor_algorithm *out);
+
+/* Largest number of input points accepted (indices are 32-bit). */
+#define VOR_MAX_POINTS ((size_t)1 << 30)
+
+/* ---- Sites: validated, de-duplicated input ------------------------------ */
+typedef struct vor_sites {
+    size_t n_input;     /* points given by the caller */
+    size_t n;           /* distinct sites, n <= n_input */
+    double *xy;         /* 2*n: site coordinates, exactly as given (a -0.0
+                           is stored as +0.0), in order of first occurrence */
+    uint32_t *input_of; /* n: input index of each site's first occurrence
+                           (strictly increasing) */
+    uint32_t *site_of;  /* n_input: site index of each input point */
+} vor_sites;
+
+/* Validates and de-duplicates n points given as interleaved x,y doubles.
+ * Two points are duplicates when their coordinates compare equal (so -0.0
+ * equals 0.0). On a non-finite coordinate returns VOR_ENONFINITE and stores
+ * the offending input index in *bad_index (if not NULL); n > VOR_MAX_POINTS
+ * gives VOR_ETOOMANY. On success *out is a new vor_sites (free with
+ * vor_sites_free); on error *out is NULL and nothing leaks. xy may be NULL
+ * when n == 0. Expected O(n). */
+vor_status vor_sites_new(const double *xy, size_t n, vor_sites **out,
+                         size_t *bad_index);
+void vor_sites_free(vor_sites *s);
+
+/* ---- The Voronoi diagram ------------------------------------------------- */
+
+/* An end of an edge that is not a vertex: the edge is unbounded there. */
+#define VOR_NONE (-1)
+
+/* The diagram is a set of flat arrays with documented strides (memory is
+ * about 140 bytes per site for uniform input).
+ *
+ * Vertex v: the centre of the circle through three or more sites.
+ *   vertex_sites[3v..3v+2] are the three smallest site indices on that
+ *   circle, increasing; vertex_xy[2v], vertex_xy[2v+1] are computed by
+ *   vor_circumcenter() from exactly those three sites in that order, so every
+ *   algorithm gives bit-identical coordinates. The centre of 4+ cocircular
+ *   sites is ONE vertex. Canonical order: by (s0, s1, s2).
+ *
+ * Edge e: the part of the bisector of sites a < b that bounds both cells,
+ *   a = edge_sites[2e], b = edge_sites[2e+1]. Ends edge_ends[2e], [2e+1] are
+ *   vertex indices or VOR_NONE:
+ *     segment: both >= 0 and end0 < end1 (never zero length);
+ *     ray:     end0 >= 0, end1 == VOR_NONE: leaves vertex end0 outwards;
+ *     line:    both VOR_NONE (two sites, or all sites collinear): through
+ *              the midpoint of a and b, unbounded both ways.
+ *   Canonical order: by (a, b); a pair of sites has at most one edge.
+ *
+ * Ray r (for every unbounded edge, rays and lines): ray_edge[r] is the edge
+ *   (increasing in r), ray_dir[2r..2r+1] its unit direction from
+ *   vor_bisector_dir(): outward for a ray; for a line, the direction with
+ *   site a on its left.
+ *
+ * Cell of site i: cell_edges[cell_start[i] .. cell_start[i+1]-1], edge
+ *   indices counter-clockwise around the site. A bounded cell starts at its
+ *   smallest edge index; an unbounded cell starts with the edge that comes in
+ *   from infinity and ends with the one that leaves to infinity.
+ *   cell_bounded[i] is 1 for a closed polygon. */
+typedef struct vor_diagram {
+    size_t n_sites; /* copy of sites->n */
+
+    size_t n_vertices;
+    double *vertex_xy;       /* 2 * n_vertices */
+    uint32_t *vertex_sites;  /* 3 * n_vertices */
+
+    size_t n_edges;
+    uint32_t *edge_sites;    /* 2 * n_edges */
+    int32_t *edge_ends;      /* 2 * n_edges */
+
+    size_t n_rays;
+    uint32_t *ray_edge;      /* n_rays */
+    double *ray_dir;         /* 2 * n_rays */
+
+    uint32_t *cell_start;    /* n_sites + 1 */
+    uint32_t *cell_edges;    /* cell_start[n_sites] == 2 * n_edges entries */
+    uint8_t *cell_bounded;   /* n_sites */
+} vor_diagram;
+
+/* Computes the canonical Voronoi diagram of the sites with the chosen
+ * algorithm. On success *out is a new diagram (free with vor_diagram_free).
+ * On error *out is NULL and nothing leaks. Sites are borrowed. */
+vor_status vor_compute(const vor_sites *sites, vor_algorithm algorithm,
+                       vor_diagram **out);
+void vor_diagram_free(vor_diagram *d);
+
+/* Non-zero when the two diagrams are identical in every field, bit for bit
+ * (vertex coordinates included). */
+int vor_diagram_equal(const vor_diagram *p, const vor_diagram *q);
+
+/* The Delaunay triangles dual to the diagram: each vertex of degree k gives
+ * k-2 triangles, fanned from its smallest site, counter-clockwise. *out is a
+ * new array of 3 * *n_tri site indices (free with free()). Identical for all
+ * algorithms, because it is derived from the canonical diagram. */
+vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
+                                 uint32_t **out, size_t *n_tri);
+
+/* ---- Checking ----------------------------------------------------------- */
+
+/* Verifies the diagram's invariants against the sites with exact
+ * predicates: every vertex is equidistant from its defining sites and no
+ * site lies strictly inside its circle (empty circle, checked exactly, in
+ * O(n log n) expected via the cells, not against all sites), edges join
+ * vertices that belong to both sites' cells, cells are closed or correctly
+ * unbounded, counter-clockwise, Euler's relation holds, canonical order is
+ * respected, no zero-length edges. Returns 0 if valid; otherwise non-zero and
+ * writes a one-line reason into msg (if msg != NULL). */
+int vor_check(const vor_diagram *d, const vor_sites *sites, char *msg,
+              size_t msg_size);
+
+/* ---- Clipping to a box -------------------------------------------------- */
+
+typedef struct vor_clipped {
+    double box[4]; /* xmin, ymin, xmax, ymax */
+    /* For every diagram edge e, its part inside the box:
+     * seg[4e .. 4e+3] = x0, y0, x1, y1, valid when seg_in[e] != 0. */
+    double *seg;
+    uint8_t *seg_in;
+    /* For every site i, its cell intersected with the box, a closed
+     * counter-clockwise polygon of (poly_start[i+1] - poly_start[i]) points
+     * at poly_xy[2*poly_start[i] ..]; empty when the site's cell misses the
+     * box (a site outside the box can still have a cell inside it). */
+    uint32_t *poly_start; /* n_sites + 1 */
+    double *poly_xy;
+} vor_clipped;
+
+/* Clips the diagram to box = {xmin, ymin, xmax, ymax}. VOR_EBOUNDS if the box
+ * is not finite or empty. On error *out is NULL and nothing leaks. */
+vor_status vor_clip(const vor_diagram *d, const vor_sites *sites,
+                    const double box[4], vor_clipped **out);
+void vor_clipped_free(vor_clipped *c);
+
+/* ---- Geometry helpers shared by all algorithms -------------------------- */
+
+/* Centre of the circle through a, b, c (each x,y). The caller passes the
+ * three sites in increasing site index order so that the result is the
+ * same whichever algorithm asks. Computed relative to a, finite for any
+ * non-collinear finite input unless the true centre overflows. */
+void vor_circumcenter(const double *a, const double *b, const double *c,
+                      double *out);
+
+/* Unit direction of the bisector of a and b that has a on its left:
+ * normalise(-(b.y - a.y), b.x - a.x). For a ray leaving the hull edge
+ * (p -> q counter-clockwise along the hull) outwards, call with (q, p):
+ * outward points to the right of p->q. Overflow-safe. */
+void vor_bisector_dir(const double *a, const double *b, double *out);
+
+#endif /* VOR_VOR_H */
