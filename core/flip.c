@@ -1,0 +1,15 @@
+/* flip.c -- Lawson flipping Delaunay triangulation
+ * (placeholder until the real insertion lands). */
+#include "internal.h"
+
+vor_status vor__flip_mesh(const vor_sites *s, vor__mesh *m) {
+    (void)s;
+    (void)m;
+    return VOR_EUNAVAILABLE;
+}
+
+vor_status vor__flip(const vor_sites *s, vor_diagram **out) {
+    (void)s;
+    *out = NULL;
+    return VOR_EUNAVAILABLE;
+}
