@@ -36,7 +36,8 @@
     X(API_INVALID, "invalid", 422, "Invalid request")                        \
     X(API_INTERNAL, "internal", 500, "Internal error")                       \
     X(API_UNAVAILABLE, "unavailable", 503, "Service unavailable")            \
-    X(API_TIMEOUT, "timeout", 504, "Deadline exceeded")
+    X(API_TIMEOUT, "timeout", 504, "Deadline exceeded")                      \
+    X(API_NOT_IMPLEMENTED, "not-implemented", 501, "Not implemented")
 
 typedef enum api_code {
 #define API__ENUM(name, slug, http, title) name,
@@ -56,6 +57,16 @@ int api_code_http(api_code c);
 const char *api_code_slug(api_code c);
 const char *api_code_title(api_code c);
 
+/* Problem type URIs are relative: API_PROBLEM_TYPE_PREFIX followed by the
+ * slug, e.g. "/problems/too-large" (resolved against the service's own
+ * address, so they work behind any host name). */
+#define API_PROBLEM_TYPE_PREFIX "/problems/"
+
+/* Problem for a core status (VOR_ENOMEM -> API_UNAVAILABLE, VOR_ETOOMANY ->
+ * API_TOO_LARGE, VOR_EUNAVAILABLE -> API_NOT_IMPLEMENTED, ...), with the
+ * core's message as detail; returns the code (API_OK for VOR_OK). */
+api_code api_problem_from_status(api_problem *p, vor_status s);
+
 /* Sets p (code, printf-style detail); returns code. */
 api_code api_problem_set(api_problem *p, api_code code, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -74,15 +85,33 @@ void api_buf_init(api_buf *b);
 void api_buf_clear(api_buf *b);
 /* Hands the data to the caller (free with free()); b is left empty. */
 char *api_buf_take(api_buf *b, size_t *len);
+/* Appends n bytes (or a printf-formatted string); on failure sets b->oom,
+ * keeps the contents and returns -1, else 0. The data stay terminated by a
+ * NUL byte that len does not count. */
+int api_buf_append(api_buf *b, const void *data, size_t n);
+int api_buf_printf(api_buf *b, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 /* ---- Requests ----------------------------------------------------------- */
 
-typedef enum api_input { API_IN_JSON, API_IN_TEXT, API_IN_BINARY } api_input;
+/* API_IN_AUTO: JSON if the first byte that is not white space is '{' or
+ * '[', text otherwise (binary is never guessed). */
+typedef enum api_input {
+    API_IN_JSON,
+    API_IN_TEXT,
+    API_IN_BINARY,
+    API_IN_AUTO
+} api_input;
+/* API_FMT_TIMINGS: only the JSON timings object (command line, benchmarks). */
 typedef enum api_format {
     API_FMT_JSON,
     API_FMT_GEOJSON,
     API_FMT_SVG,
-    API_FMT_BINARY
+    API_FMT_BINARY,
+    API_FMT_TIMINGS
 } api_format;
 
 /* Parts of the diagram to return (JSON "include": [...]). */
@@ -92,9 +121,14 @@ enum {
     API_PART_EDGES = 1u << 2,
     API_PART_CELLS = 1u << 3,
     API_PART_TRIANGLES = 1u << 4,
-    API_PART_CLIPPED = 1u << 5, /* clipped edges and cell polygons; needs bounds */
-    API_PART_DEFAULT = API_PART_VERTICES | API_PART_EDGES | API_PART_CELLS
+    API_PART_CLIPPED = 1u << 5, /* clipped edges and cell polygons */
+    API_PART_DEFAULT = API_PART_VERTICES | API_PART_EDGES | API_PART_CELLS,
+    API_PART_ALL = (1u << 6) - 1
 };
+/* When the parts were not chosen explicitly (parts_given == 0), bounds add
+ * API_PART_CLIPPED. "clipped" without bounds clips to the default box: the
+ * sites' bounding box expanded by 10% on every side (GeoJSON and SVG use the
+ * same box when no bounds are given). */
 
 typedef struct api_limits {
     size_t max_points; /* input or generated points */
@@ -105,6 +139,7 @@ typedef struct api_request {
     int has_bounds;
     double bounds[4]; /* xmin, ymin, xmax, ymax */
     unsigned parts;
+    int parts_given; /* parts were chosen by an "include" */
     api_format format;
     double *xy;      /* 2 * n, owned */
     size_t n;
@@ -114,13 +149,23 @@ typedef struct api_request {
 void api_request_init(api_request *r); /* fortune, default parts, JSON */
 void api_request_clear(api_request *r);
 
-/* Content-Type header (parameters allowed, case-insensitive) -> input kind.
- * NULL or empty means JSON. API_MEDIA_TYPE otherwise. */
+/* Content-Type header (parameters allowed, case-insensitive) -> input kind:
+ * application/json, text/json and any application/...+json -> JSON;
+ * text/csv, text/plain, text/tab-separated-values -> text;
+ * application/octet-stream -> binary; NULL, empty or
+ * application/x-www-form-urlencoded (what `curl --data-binary` sends
+ * unless told otherwise) -> API_IN_AUTO. API_MEDIA_TYPE otherwise. */
 api_code api_input_from_content_type(const char *content_type, api_input *out,
                                      api_problem *p);
 
 /* Parses a request body into r (options found in a JSON body included).
- * Points beyond lim->max_points give API_TOO_LARGE. */
+ * Points beyond lim->max_points give API_TOO_LARGE (lim may be NULL:
+ * VOR_MAX_POINTS). Statuses: syntax errors, unknown or duplicate keys and
+ * a binary length that is not a multiple of 16 are API_MALFORMED (400);
+ * well-formed values of the wrong type or range (a string where a number
+ * belongs, NaN, 1e999, bad bounds, unknown algorithm) are API_INVALID
+ * (422); p->pointer (JSON) or p->line (text) names the place. On error r's
+ * points are left empty. */
 api_code api_parse_body(api_request *r, api_input kind, const char *body,
                         size_t len, const api_limits *lim, api_problem *p);
 
@@ -132,13 +177,29 @@ api_code api_request_option(api_request *r, const char *key, const char *value,
                             api_problem *p);
 
 /* Accept header -> format; leaves r->format unchanged for * / * or absent.
- * API_NOT_ACCEPTABLE if nothing we produce is acceptable. */
+ * Media ranges are taken in order of their q values (q=0 refuses);
+ * application/json, application/geo+json, image/svg+xml,
+ * application/octet-stream are produced, and "application/ *" or "image/ *"
+ * ranges match them. API_NOT_ACCEPTABLE if nothing we produce is
+ * acceptable. */
 api_code api_format_from_accept(api_request *r, const char *accept,
                                 api_problem *p);
 
-/* Generated point sets: uniform, gaussian, random (integer pixels in an
- * 800x600 window), grid, circle, clustered. Deterministic for a seed.
- * *xy is a new array of 2*n doubles (free with free()). */
+/* Generated point sets, deterministic for a seed (xoshiro256** seeded by
+ * splitmix64, identical on every platform except for libm's last bits in
+ * gaussian, circle and clustered):
+ *   uniform   -- the unit square [0,1)^2;
+ *   gaussian  -- standard normal x and y (mean 0, deviation 1);
+ *   random    -- integer pixels in an 800x600 window (duplicates likely);
+ *   grid      -- the first n points of the k x k integer grid,
+ *                k = ceil(sqrt n), row by row (the seed is not used);
+ *   circle    -- n points evenly spaced on the unit circle, in floating
+ *                point (the seed is not used);
+ *   clustered -- c = clamp(round(sqrt(n)/10), 1, 1000) gaussian clusters,
+ *                centres uniform in the unit square, deviation 0.1/sqrt(c).
+ * *xy is a new array of 2*n doubles (free with free()); NULL when n == 0.
+ * Unknown distribution: API_INVALID listing the valid names; n >
+ * VOR_MAX_POINTS: API_TOO_LARGE. */
 api_code api_generate(const char *distribution, size_t n, uint64_t seed,
                       double **xy, api_problem *p);
 
@@ -167,20 +228,31 @@ typedef struct api_result {
 void api_result_init(api_result *res);
 void api_result_clear(api_result *res);
 
-/* Prepares sites, computes the diagram with r->algorithm, clips, derives
- * triangles, filling res and its timings (res->t.parse_ms is left for the
- * caller). Non-finite points give API_INVALID with pointer/detail naming the
- * input index. */
+/* Milliseconds on the monotonic clock, for timings. */
+double api_clock_ms(void);
+
+/* Prepares sites, computes the diagram with r->algorithm, clips (when the
+ * effective parts include "clipped", or the format is GeoJSON or SVG; to
+ * r->bounds or the default box), derives triangles (API_PART_TRIANGLES),
+ * filling res and its timings (prepare, compute, clip -- triangles count in
+ * compute; queue_ms and parse_ms are left for the caller, total_ms is the
+ * sum of all parts so far). Non-finite points give API_INVALID with pointer
+ * "/points/i/k" and a detail naming the input index. */
 api_code api_compute(const api_request *r, api_result *res, api_problem *p);
 
 typedef struct api_compare {
     api_result res[VOR_ALGORITHM_COUNT];
-    int agree;              /* all diagrams identical */
+    vor_status status[VOR_ALGORITHM_COUNT]; /* per algorithm: VOR_OK or why
+                                               it has no diagram */
+    int agree;              /* all diagrams computed and identical */
     char disagreement[256]; /* first difference found, "" if they agree */
 } api_compare;
 
 void api_compare_init(api_compare *c);
 void api_compare_clear(api_compare *c);
+/* Runs every algorithm on r's points. An algorithm that fails on its own
+ * (not available, out of memory) is recorded in c->status and makes agree
+ * 0; invalid input fails the whole call as api_compute would. */
 api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
 
 /* ---- Writing ------------------------------------------------------------ */
@@ -189,13 +261,19 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
  * "image/svg+xml", "application/octet-stream"). */
 const char *api_format_mime(api_format f);
 
-/* Writes the result in r->format. Timings in t are written into the body. */
+/* Writes the result in r->format (appending to out). The timings are the
+ * body's last member: the writer measures its own time into
+ * t->serialize_ms and adds it to t->total_ms before writing them (so the
+ * caller can reuse t for a Server-Timing header). t may be &res->t.
+ * API_UNAVAILABLE when memory runs out (out is then cleared). */
 api_code api_write_result(const api_request *r, const api_result *res,
-                          const api_timings *t, api_buf *out, api_problem *p);
+                          api_timings *t, api_buf *out, api_problem *p);
 /* JSON only: per-algorithm timings, counts and agreement. */
 api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p);
-/* application/problem+json body for p. instance may be NULL. */
+/* application/problem+json body for p: type (API_PROBLEM_TYPE_PREFIX +
+ * slug), title, status, detail, instance (when not NULL), pointer (when
+ * set), line (when set). */
 void api_write_problem(const api_problem *p, const char *instance,
                        api_buf *out);
 

@@ -85,7 +85,7 @@ const char *api_format_mime(api_format f) {
     (void)f; return "application/json";
 }
 api_code api_write_result(const api_request *r, const api_result *res,
-                          const api_timings *t, api_buf *out, api_problem *p) {
+                          api_timings *t, api_buf *out, api_problem *p) {
     (void)r; (void)res; (void)t; (void)out; return unavailable(p);
 }
 api_code api_write_compare(const api_request *r, const api_compare *c,
@@ -94,4 +94,14 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
 }
 void api_write_problem(const api_problem *p, const char *instance, api_buf *out) {
     (void)p; (void)instance; (void)out;
+}
+api_code api_problem_from_status(api_problem *p, vor_status s) {
+    (void)s; return unavailable(p);
+}
+double api_clock_ms(void) { return 0; }
+int api_buf_append(api_buf *b, const void *data, size_t n) {
+    (void)data; (void)n; b->oom = 1; return -1;
+}
+int api_buf_printf(api_buf *b, const char *fmt, ...) {
+    (void)fmt; b->oom = 1; return -1;
 }
