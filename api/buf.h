@@ -1,0 +1,78 @@
+/* buf.h -- the codec's internal output primitives over api_buf.
+ *
+ * Writers of large documents reserve room once per item with
+ * api__buf_reserve() and then append with the unchecked api__put*()
+ * helpers, so the inner loops carry no per-byte bounds checks. The amount
+ * reserved must cover everything appended before the next reserve: numbers
+ * take at most API_NUM_MAXLEN bytes (doubles, or "null" for a non-finite
+ * one) and 11 bytes (32-bit integers). Growth is geometric, so appending n
+ * bytes costs O(n) amortised. */
+#ifndef VOR_API_BUF_H
+#define VOR_API_BUF_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "api.h"
+#include "numconv.h"
+
+/* Ensures room for extra more bytes plus a terminator. 0 on success; -1
+ * (b->oom set, contents kept) if memory runs out or b->oom was already
+ * set. */
+int api__buf_reserve(api_buf *b, size_t extra);
+
+static inline void api__put(api_buf *b, const char *s, size_t n) {
+    memcpy(b->data + b->len, s, n);
+    b->len += n;
+}
+
+#define API__PUTS(b, lit) api__put((b), (lit), sizeof(lit) - 1)
+/* Checked append of a string literal (reserves; records oom). */
+#define API_BUF_LIT(b, lit) api_buf_append((b), (lit), sizeof(lit) - 1)
+
+static inline void api__putc(api_buf *b, char c) { b->data[b->len++] = c; }
+
+/* Decimal digits of v at buf (at most 10 bytes); returns the length. */
+size_t api__fmt_u32(uint32_t v, char *buf);
+
+static inline void api__put_u32(api_buf *b, uint32_t v) {
+    b->len += api__fmt_u32(v, b->data + b->len);
+}
+
+static inline void api__put_i32(api_buf *b, int32_t v) {
+    if (v < 0) {
+        api__putc(b, '-');
+        api__put_u32(b, (uint32_t)0 - (uint32_t)v);
+    } else {
+        api__put_u32(b, (uint32_t)v);
+    }
+}
+
+/* Shortest round-trip form, or null when v is not finite (JSON has no
+ * infinities; a Voronoi vertex can overflow for finite sites). */
+static inline void api__put_double(api_buf *b, double v) {
+    size_t n = api_num_format(v, b->data + b->len);
+    if (n == 0) {
+        API__PUTS(b, "null");
+    } else {
+        b->len += n;
+    }
+}
+
+/* Appends s as a JSON string literal (quotes, escapes; bytes >= 0x80 are
+ * passed through, invalid UTF-8 is replaced by U+FFFD). Reserves itself;
+ * -1 on allocation failure. */
+int api__put_json_string(api_buf *b, const char *s);
+
+/* Appends the bytes of s with the five XML special characters escaped.
+ * Reserves itself; -1 on allocation failure. */
+int api__put_xml_text(api_buf *b, const char *s);
+
+/* Appends the first n bytes of s for a problem detail: printable ASCII kept,
+ * anything else as \xNN, cut with "..." beyond max bytes. Writes into dst
+ * (size dst_size, always terminated). */
+void api__quote_excerpt(char *dst, size_t dst_size, const char *s, size_t n,
+                        size_t max);
+
+#endif /* VOR_API_BUF_H */
