@@ -1,55 +1,61 @@
-/* diagram.c -- the canonical Voronoi diagram (placeholder, being written).
+/* diagram.c -- the canonical Voronoi diagram: the one builder every
+ * algorithm ends in, the Delaunay-mesh conversion, the degenerate diagrams
+ * (fewer than three sites, or all collinear), the dual triangles, equality
+ * and freeing.
  *
- * Every entry point returns VOR_EUNAVAILABLE until the builder lands; the
- * free and compare functions are already real. */
+ * Representation: struct vor_diagram in vor.h, flat arrays with fixed
+ * strides. vor__diagram_build() alone decides the canonical form, so that
+ * Fortune's sweep and the two triangulation algorithms return bit-identical
+ * diagrams:
+ *   - vertices ordered by their three smallest sites (s0, s1, s2), coordinates
+ *     from vor_circumcenter(s0, s1, s2);
+ *   - edges (a, b) with a < b, ordered by (a, b); a segment's ends increase;
+ *     a ray lists its vertex first;
+ *   - rays in edge order, directions from vor_bisector_dir();
+ *   - cells counter-clockwise; a bounded cell starts at its smallest edge
+ *     index, an unbounded one with the edge that comes in from infinity.
+ *     The cell of a site between two parallel lines (all sites collinear)
+ *     has no such edge: it lists its two lines in edge order (smaller edge
+ *     index first), each of which is traversed with the site on its left.
+ *
+ * Every decision that depends on geometry (which end of an edge comes first
+ * around a site, which way a ray points, which triangles share a circle) is
+ * taken with the exact predicates vor_orient2d / vor_incircle; everything
+ * else is combinatorial. Sorting is by stable counting-sort passes keyed by
+ * site index, so the whole build is O(n) time; permutations are applied in
+ * place so that the peak memory stays close to the size of the result.
+ *
+ * Input that breaks a builder's contract can only come from a bug in one of
+ * our algorithms: a debug build stops on an assert naming the broken rule, a
+ * release build returns VOR_EINVAL (nothing leaks, *out is NULL).
+ */
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
 
-vor_status vor__diagram_build(const vor_sites *s, size_t n_vertices,
-                              uint32_t *edges, int32_t *ends, size_t n_edges,
-                              vor_diagram **out) {
-    (void)s; (void)n_vertices; (void)n_edges;
-    free(edges);
-    free(ends);
-    if (out) *out = NULL;
-    return VOR_EUNAVAILABLE;
-}
+/* High bit of a uint32 index: marks entries already moved by
+ * gather_in_place(). Indices handled here are below 2^31. */
+#define MARK 0x80000000u
+#define MAX_INDEX 0x7fffffffu
+#define EMPTY UINT32_MAX
 
-vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
-                                vor_diagram **out) {
-    (void)s;
-    if (m) {
-        free(m->tri);
-        free(m->adj);
-        memset(m, 0, sizeof *m);
-    }
-    if (out) *out = NULL;
-    return VOR_EUNAVAILABLE;
-}
+#define CONTRACT(cond)                                                     \
+    do {                                                                   \
+        if (!(cond)) {                                                     \
+            assert(!"diagram contract broken: " #cond);                     \
+            st = VOR_EINVAL;                                               \
+            goto fail;                                                     \
+        }                                                                  \
+    } while (0)
 
-int vor__all_collinear(const vor_sites *s) {
-    (void)s;
-    return 0;
-}
-
-vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out) {
-    (void)s;
-    if (out) *out = NULL;
-    return VOR_EUNAVAILABLE;
-}
-
-vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
-                                 uint32_t **out, size_t *n_tri) {
-    (void)d; (void)sites;
-    if (out) *out = NULL;
-    if (n_tri) *n_tri = 0;
-    return VOR_EUNAVAILABLE;
-}
-
-int vor_diagram_equal(const vor_diagram *p, const vor_diagram *q) {
-    return p == q;
+/* malloc that never returns NULL for a zero-size request that succeeded:
+ * every array of a successful diagram is non-NULL. */
+static void *xmalloc(size_t count, size_t size) {
+    if (count == 0) count = 1;
+    if (count > SIZE_MAX / size) return NULL;
+    return malloc(count * size);
 }
 
 void vor_diagram_free(vor_diagram *d) {
@@ -64,4 +70,673 @@ void vor_diagram_free(vor_diagram *d) {
     free(d->cell_edges);
     free(d->cell_bounded);
     free(d);
+}
+
+/* ---- sorting helpers ----------------------------------------------------- */
+
+/* One stable counting-sort pass: writes to out[0..m-1] the items in[0..m-1]
+ * (or 0..m-1 when in is NULL) ordered by their key keys[stride*x + off],
+ * which lies in [0, nk). count has nk + 1 entries. O(m + nk). */
+static void counting_pass(const uint32_t *keys, size_t stride, size_t off,
+                          size_t nk, const uint32_t *in, uint32_t *out,
+                          size_t m, uint32_t *count) {
+    memset(count, 0, (nk + 1) * sizeof *count);
+    for (size_t k = 0; k < m; k++) {
+        size_t x = in ? in[k] : k;
+        count[keys[stride * x + off] + 1]++;
+    }
+    for (size_t i = 0; i < nk; i++) count[i + 1] += count[i];
+    for (size_t k = 0; k < m; k++) {
+        uint32_t x = in ? in[k] : (uint32_t)k;
+        out[count[keys[stride * x + off]]++] = x;
+    }
+}
+
+/* Applies the gather permutation ord in place: afterwards element j of base
+ * is the element that was at ord[j]. Follows each cycle once, marking
+ * visited entries of ord with MARK, and clears the marks at the end, so ord
+ * is unchanged on return. size <= 16. O(m), no allocation. */
+static void gather_in_place(void *base, size_t size, uint32_t *ord, size_t m) {
+    unsigned char *b = base, tmp[16];
+    assert(size <= sizeof tmp);
+    for (size_t i = 0; i < m; i++) {
+        if (ord[i] & MARK) continue;
+        if (ord[i] == i) {
+            ord[i] |= MARK;
+            continue;
+        }
+        memcpy(tmp, b + i * size, size);
+        size_t j = i;
+        for (;;) {
+            size_t k = ord[j];
+            ord[j] |= MARK;
+            if (k == i) {
+                memcpy(b + j * size, tmp, size);
+                break;
+            }
+            memcpy(b + j * size, b + k * size, size);
+            j = k;
+        }
+    }
+    for (size_t i = 0; i < m; i++) ord[i] &= ~MARK;
+}
+
+/* Adds site x to the increasing triple t (EMPTY marks free slots), keeping
+ * the three smallest distinct values. */
+static void insert3(uint32_t *t, uint32_t x) {
+    if (x == t[0] || x == t[1] || x == t[2]) return;
+    if (x < t[0]) {
+        t[2] = t[1];
+        t[1] = t[0];
+        t[0] = x;
+    } else if (x < t[1]) {
+        t[2] = t[1];
+        t[1] = x;
+    } else if (x < t[2]) {
+        t[2] = x;
+    }
+}
+
+/* A site of the triple t other than a and b (one exists: t is three
+ * distinct sites). */
+static uint32_t third_site(const uint32_t *t, uint32_t a, uint32_t b) {
+    for (int k = 0; k < 3; k++)
+        if (t[k] != a && t[k] != b) return t[k];
+    return t[0];
+}
+
+/* Where edge e starts and ends when the boundary of the cell of site i
+ * (one of the edge's sites) is walked counter-clockwise. fwd[e] & 1 says
+ * whether that walk around the edge's first site a goes from end0 to end1;
+ * around b it goes the other way. */
+static int32_t walk_start(const vor_diagram *d, const uint8_t *fwd, uint32_t e,
+                          uint32_t i) {
+    int f = (fwd[e] & 1) == (d->edge_sites[2 * e] == i);
+    return d->edge_ends[2 * e + (f ? 0 : 1)];
+}
+static int32_t walk_end(const vor_diagram *d, const uint8_t *fwd, uint32_t e,
+                        uint32_t i) {
+    int f = (fwd[e] & 1) == (d->edge_sites[2 * e] == i);
+    return d->edge_ends[2 * e + (f ? 1 : 0)];
+}
+
+/* ---- the builder --------------------------------------------------------- */
+
+/* Orders the cell of site i counter-clockwise in place (see the file
+ * comment for where it starts) and sets cell_bounded[i]. slot is scratch of
+ * n_vertices entries whose contents do not matter; bits 1 and 2 of fwd mark
+ * the sides of edges already walked. Returns 0, or -1 if the edges of the
+ * cell do not form one chain. O(cell size). */
+static int order_cell(vor_diagram *d, uint8_t *fwd, uint32_t *slot,
+                      uint32_t i) {
+    uint32_t *L = d->cell_edges + d->cell_start[i];
+    size_t k = d->cell_start[i + 1] - d->cell_start[i];
+    size_t n_lines = 0, n_in = 0, n_out = 0;
+    uint32_t first_in = 0;
+
+    d->cell_bounded[i] = 0;
+    if (k == 0) return d->n_sites == 1 ? 0 : -1;
+    for (size_t t = 0; t < k; t++) {
+        uint32_t e = L[t];
+        int32_t s0 = walk_start(d, fwd, e, i), s1 = walk_end(d, fwd, e, i);
+        if (s0 < 0 && s1 < 0) {
+            n_lines++;
+            continue;
+        }
+        if (s0 < 0) {
+            n_in++;
+            first_in = e;
+        } else {
+            slot[s0] = e;
+        }
+        if (s1 < 0) n_out++;
+    }
+    if (n_lines) /* all sites collinear: lines only, kept in edge order */
+        return n_lines == k && k <= 2 ? 0 : -1;
+    if (n_in != n_out || n_in > 1) return -1;
+
+    uint32_t cur = n_in ? first_in : L[0]; /* L is in edge order */
+    int32_t closing = walk_start(d, fwd, cur, i);
+    for (size_t t = 0;; t++) {
+        uint8_t side = d->edge_sites[2 * (size_t)cur] == i ? 2 : 4;
+        if (fwd[cur] & side) return -1;
+        fwd[cur] |= side;
+        L[t] = cur;
+        int32_t v = walk_end(d, fwd, cur, i);
+        if (t + 1 == k) {
+            if (v != closing) return -1;
+            break;
+        }
+        if (v < 0) return -1;
+        uint32_t nx = slot[v];
+        if ((size_t)nx >= d->n_edges) return -1;
+        if (d->edge_sites[2 * (size_t)nx] != i &&
+            d->edge_sites[2 * (size_t)nx + 1] != i)
+            return -1;
+        if (walk_start(d, fwd, nx, i) != v) return -1;
+        cur = nx;
+    }
+    d->cell_bounded[i] = n_in == 0;
+    return 0;
+}
+
+vor_status vor__diagram_build(const vor_sites *s, size_t n_vertices,
+                              uint32_t *edges, int32_t *ends, size_t n_edges,
+                              vor_diagram **out) {
+    vor_status st = VOR_ENOMEM;
+    vor_diagram *d = NULL;
+    uint32_t *count = NULL, *pa = NULL, *pb = NULL, *slot = NULL;
+    uint8_t *fwd = NULL;
+    const size_t nv = n_vertices, ne = n_edges;
+
+    if (!out) {
+        free(edges);
+        free(ends);
+        assert(!"vor__diagram_build: out is NULL");
+        return VOR_EINVAL;
+    }
+    *out = NULL;
+    CONTRACT(s != NULL && (s->n == 0 || s->xy != NULL));
+    CONTRACT(ne == 0 || (edges != NULL && ends != NULL));
+    if (nv > MAX_INDEX || ne > MAX_INDEX / 2 || s->n > MAX_INDEX) {
+        st = VOR_ETOOMANY;
+        goto fail;
+    }
+    const size_t n = s->n;
+    const double *xy = s->xy;
+
+    d = calloc(1, sizeof *d);
+    if (!d) goto fail;
+    d->n_sites = n;
+    d->n_vertices = nv;
+    d->n_edges = ne;
+    d->edge_sites = edges;
+    d->edge_ends = ends;
+    edges = NULL;
+    ends = NULL;
+
+    /* 1. Each vertex's three smallest sites: the union of its edges' sites. */
+    d->vertex_sites = xmalloc(3 * nv, sizeof(uint32_t));
+    count = xmalloc(n + 1, sizeof(uint32_t));
+    if (!d->vertex_sites || !count) goto fail;
+    uint32_t *vs = d->vertex_sites;
+    for (size_t k = 0; k < 3 * nv; k++) vs[k] = EMPTY;
+    for (size_t e = 0; e < ne; e++) {
+        uint32_t *ab = d->edge_sites + 2 * e;
+        int32_t *en = d->edge_ends + 2 * e;
+        CONTRACT(ab[0] < n && ab[1] < n && ab[0] != ab[1]);
+        if (ab[0] > ab[1]) {
+            uint32_t t = ab[0];
+            ab[0] = ab[1];
+            ab[1] = t;
+        }
+        for (int k = 0; k < 2; k++) {
+            CONTRACT(en[k] == VOR_NONE || (en[k] >= 0 && (size_t)en[k] < nv));
+            if (en[k] >= 0) {
+                insert3(vs + 3 * (size_t)en[k], ab[0]);
+                insert3(vs + 3 * (size_t)en[k], ab[1]);
+            }
+        }
+        CONTRACT(en[0] < 0 || en[0] != en[1]); /* no zero-length segment */
+    }
+    for (size_t v = 0; v < nv; v++) CONTRACT(vs[3 * v + 2] != EMPTY);
+
+    /* 2. Vertices in (s0, s1, s2) order: three stable passes, last key
+     * first; then renumber the edges' ends. */
+    if (nv > 0) {
+        pa = malloc(nv * sizeof *pa);
+        pb = malloc(nv * sizeof *pb);
+        if (!pa || !pb) goto fail;
+        counting_pass(vs, 3, 2, n, NULL, pa, nv, count);
+        counting_pass(vs, 3, 1, n, pa, pb, nv, count);
+        counting_pass(vs, 3, 0, n, pb, pa, nv, count);
+        for (size_t k = 1; k < nv; k++) /* one circle, one vertex */
+            CONTRACT(memcmp(vs + 3 * (size_t)pa[k - 1], vs + 3 * (size_t)pa[k],
+                            3 * sizeof *vs) != 0);
+        for (size_t k = 0; k < nv; k++) pb[pa[k]] = (uint32_t)k;
+        gather_in_place(vs, 3 * sizeof *vs, pa, nv);
+        for (size_t k = 0; k < 2 * ne; k++)
+            if (d->edge_ends[k] >= 0)
+                d->edge_ends[k] = (int32_t)pb[d->edge_ends[k]];
+        free(pa);
+        free(pb);
+        pa = pb = NULL;
+    }
+    d->vertex_xy = xmalloc(2 * nv, sizeof(double));
+    if (!d->vertex_xy) goto fail;
+    for (size_t v = 0; v < nv; v++)
+        vor_circumcenter(xy + 2 * (size_t)vs[3 * v], xy + 2 * (size_t)vs[3 * v + 1],
+                         xy + 2 * (size_t)vs[3 * v + 2], d->vertex_xy + 2 * v);
+
+    /* 3. Canonical ends: a segment's increase, a ray's vertex comes first. */
+    for (size_t e = 0; e < ne; e++) {
+        int32_t *en = d->edge_ends + 2 * e;
+        if ((en[0] < 0 && en[1] >= 0) || (en[1] >= 0 && en[0] > en[1])) {
+            int32_t t = en[0];
+            en[0] = en[1];
+            en[1] = t;
+        }
+    }
+
+    /* 4. Edges in (a, b) order: by b, then stably by a. */
+    if (ne > 0) {
+        pa = malloc(ne * sizeof *pa);
+        pb = malloc(ne * sizeof *pb);
+        if (!pa || !pb) goto fail;
+        counting_pass(d->edge_sites, 2, 1, n, NULL, pa, ne, count);
+        counting_pass(d->edge_sites, 2, 0, n, pa, pb, ne, count);
+        free(pa);
+        pa = NULL;
+        gather_in_place(d->edge_sites, 2 * sizeof(uint32_t), pb, ne);
+        gather_in_place(d->edge_ends, 2 * sizeof(int32_t), pb, ne);
+        free(pb);
+        pb = NULL;
+    }
+    for (size_t e = 1; e < ne; e++) { /* a pair of sites has one edge */
+        const uint32_t *p = d->edge_sites + 2 * (e - 1);
+        CONTRACT(p[0] < p[2] || (p[0] == p[2] && p[1] < p[3]));
+    }
+
+    /* 5. Orientation of each edge around its sites, decided exactly: around
+     * site a the walk runs towards the vertex whose other sites lie to the
+     * left of a->b. Rays point away from those sites. */
+    fwd = xmalloc(ne, 1);
+    if (!fwd) goto fail;
+    size_t nr = 0;
+    for (size_t e = 0; e < ne; e++) {
+        const uint32_t a = d->edge_sites[2 * e], b = d->edge_sites[2 * e + 1];
+        const int32_t u = d->edge_ends[2 * e], w = d->edge_ends[2 * e + 1];
+        fwd[e] = 1;
+        if (w < 0) nr++;
+        if (u < 0) continue; /* line */
+        uint32_t k = third_site(vs + 3 * (size_t)u, a, b);
+        int o = vor_orient2d(xy + 2 * (size_t)a, xy + 2 * (size_t)b, xy + 2 * (size_t)k);
+        CONTRACT(o != 0);
+        if (w >= 0) {
+            uint32_t k2 = third_site(vs + 3 * (size_t)w, a, b);
+            int o2 = vor_orient2d(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
+                                  xy + 2 * (size_t)k2);
+            CONTRACT(o2 == -o); /* the segment joins the two sides of ab */
+        }
+        fwd[e] = o < 0;
+    }
+    d->n_rays = nr;
+    d->ray_edge = xmalloc(nr, sizeof(uint32_t));
+    d->ray_dir = xmalloc(2 * nr, sizeof(double));
+    if (!d->ray_edge || !d->ray_dir) goto fail;
+    nr = 0;
+    for (size_t e = 0; e < ne; e++) {
+        if (d->edge_ends[2 * e + 1] >= 0) continue;
+        const double *pa_ = xy + 2 * (size_t)d->edge_sites[2 * e];
+        const double *pb_ = xy + 2 * (size_t)d->edge_sites[2 * e + 1];
+        d->ray_edge[nr] = (uint32_t)e;
+        /* A line has a on its left; a ray leaves its vertex in the walking
+         * direction around a when fwd (vertex first), else around b. */
+        if (fwd[e])
+            vor_bisector_dir(pa_, pb_, d->ray_dir + 2 * nr);
+        else
+            vor_bisector_dir(pb_, pa_, d->ray_dir + 2 * nr);
+        nr++;
+    }
+
+    /* 6. Cells: bucket the edges by site (in edge order), then chain each
+     * cell through its vertices. */
+    d->cell_start = xmalloc(n + 1, sizeof(uint32_t));
+    d->cell_edges = xmalloc(2 * ne, sizeof(uint32_t));
+    d->cell_bounded = xmalloc(n, 1);
+    slot = xmalloc(nv, sizeof(uint32_t));
+    if (!d->cell_start || !d->cell_edges || !d->cell_bounded || !slot)
+        goto fail;
+    memset(slot, 0xff, (nv ? nv : 1) * sizeof *slot); /* EMPTY: no edge */
+    uint32_t *cs = d->cell_start;
+    memset(cs, 0, (n + 1) * sizeof *cs);
+    for (size_t k = 0; k < 2 * ne; k++) cs[d->edge_sites[k] + 1]++;
+    for (size_t i = 0; i < n; i++) cs[i + 1] += cs[i];
+    for (size_t e = 0; e < ne; e++) {
+        d->cell_edges[cs[d->edge_sites[2 * e]]++] = (uint32_t)e;
+        d->cell_edges[cs[d->edge_sites[2 * e + 1]]++] = (uint32_t)e;
+    }
+    for (size_t i = n; i > 0; i--) cs[i] = cs[i - 1];
+    cs[0] = 0;
+    for (size_t i = 0; i < n; i++)
+        CONTRACT(order_cell(d, fwd, slot, (uint32_t)i) == 0);
+
+    free(slot);
+    free(fwd);
+    free(count);
+    *out = d;
+    return VOR_OK;
+
+fail:
+    free(edges);
+    free(ends);
+    free(count);
+    free(pa);
+    free(pb);
+    free(slot);
+    free(fwd);
+    vor_diagram_free(d);
+    return st;
+}
+
+/* ---- from a Delaunay mesh ------------------------------------------------ */
+
+static uint32_t uf_find(uint32_t *uf, uint32_t x) {
+    while (uf[x] != x) {
+        uf[x] = uf[uf[x]]; /* path halving */
+        x = uf[x];
+    }
+    return x;
+}
+
+/* Triangles t and u are adjacent across half-edges e (in t) and f (in u).
+ * They belong to the same Voronoi vertex when the apex of u, tri[prev(f)],
+ * lies exactly on the circumcircle of t. Union-find links the larger root
+ * under the smaller, so each group's root is its smallest triangle. */
+vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
+                                vor_diagram **out) {
+    vor_status st = VOR_ENOMEM;
+    uint32_t *uf = NULL, *edges = NULL;
+    int32_t *ends = NULL;
+
+    if (!out) {
+        vor__mesh_clear(m);
+        return VOR_EINVAL;
+    }
+    *out = NULL;
+    CONTRACT(s != NULL && m != NULL);
+    const size_t T = m->n_tri, n = s->n;
+    const double *xy = s->xy;
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    if (T > MAX_INDEX / 3) {
+        st = VOR_ETOOMANY;
+        goto fail;
+    }
+    CONTRACT(T == 0 || (tri != NULL && adj != NULL));
+
+    uf = xmalloc(T, sizeof *uf);
+    if (!uf) goto fail;
+    for (size_t t = 0; t < T; t++) uf[t] = (uint32_t)t;
+    size_t hull = 0;
+    for (size_t e = 0; e < 3 * T; e++) {
+        CONTRACT(tri[e] < n);
+        int32_t f = adj[e];
+        if (f < 0) {
+            CONTRACT(f == -1);
+            hull++;
+            continue;
+        }
+        CONTRACT((size_t)f < 3 * T && adj[f] == (int32_t)e);
+        if ((size_t)f < e) continue;
+        size_t t = e / 3, u = (size_t)f / 3;
+        const double *apex = xy + 2 * (size_t)tri[vor__prev((uint32_t)f)];
+        int ic = vor_incircle(xy + 2 * (size_t)tri[3 * t],
+                              xy + 2 * (size_t)tri[3 * t + 1],
+                              xy + 2 * (size_t)tri[3 * t + 2], apex);
+        CONTRACT(ic <= 0); /* the mesh is Delaunay */
+        if (ic == 0) {
+            uint32_t rt = uf_find(uf, (uint32_t)t), ru = uf_find(uf, (uint32_t)u);
+            if (rt < ru) uf[ru] = rt;
+            else if (ru < rt) uf[rt] = ru;
+        }
+    }
+    /* Number the groups in order of their smallest triangle. */
+    for (size_t t = 0; t < T; t++) uf[t] = uf_find(uf, (uint32_t)t);
+    size_t nv = 0;
+    for (size_t t = 0; t < T; t++)
+        uf[t] = uf[t] == t ? (uint32_t)nv++ : uf[uf[t]];
+
+    /* Delaunay edges: (3T + hull) / 2; those inside a group vanish. */
+    size_t cap = (3 * T + hull) / 2, ne = 0;
+    edges = xmalloc(2 * cap, sizeof *edges);
+    ends = xmalloc(2 * cap, sizeof *ends);
+    if (!edges || !ends) goto fail;
+    for (size_t e = 0; e < 3 * T; e++) {
+        int32_t f = adj[e];
+        int32_t vt = (int32_t)uf[e / 3], vu = VOR_NONE;
+        if (f >= 0) {
+            if ((size_t)f < e) continue;
+            vu = (int32_t)uf[f / 3];
+            if (vu == vt) continue; /* inside one cocircular group */
+        }
+        CONTRACT(ne < cap);
+        edges[2 * ne] = tri[e];
+        edges[2 * ne + 1] = tri[vor__next((uint32_t)e)];
+        ends[2 * ne] = vt;
+        ends[2 * ne + 1] = vu;
+        ne++;
+    }
+    vor__mesh_clear(m);
+    free(uf);
+    uf = NULL;
+    if (ne < cap) { /* shrinking; keep the larger block if realloc fails */
+        uint32_t *e2 = realloc(edges, 2 * (ne ? ne : 1) * sizeof *edges);
+        if (e2) edges = e2;
+        int32_t *n2 = realloc(ends, 2 * (ne ? ne : 1) * sizeof *ends);
+        if (n2) ends = n2;
+    }
+    return vor__diagram_build(s, nv, edges, ends, ne, out);
+
+fail:
+    vor__mesh_clear(m);
+    free(uf);
+    free(edges);
+    free(ends);
+    return st;
+}
+
+/* ---- degenerate input ---------------------------------------------------- */
+
+int vor__all_collinear(const vor_sites *s) {
+    if (!s || s->n < 3) return 1;
+    const double *xy = s->xy;
+    for (size_t k = 2; k < s->n; k++)
+        if (vor_orient2d(xy, xy + 2, xy + 2 * k) != 0) return 0;
+    return 1;
+}
+
+/* Lexicographic (x, y) order of sites i and j; for collinear points it is
+ * their order along the line, decided exactly. */
+static int xy_less(const double *xy, uint32_t i, uint32_t j) {
+    const double *p = xy + 2 * (size_t)i, *q = xy + 2 * (size_t)j;
+    return p[0] < q[0] || (p[0] == q[0] && p[1] < q[1]);
+}
+
+/* Bottom-up merge sort of a[0..n-1] by xy_less, tmp as scratch.
+ * O(n log n), no recursion. */
+static void sort_along(const double *xy, uint32_t *a, uint32_t *tmp,
+                       size_t n) {
+    for (size_t w = 1; w < n; w *= 2) {
+        for (size_t lo = 0; lo < n; lo += 2 * w) {
+            size_t mid = lo + w < n ? lo + w : n;
+            size_t hi = lo + 2 * w < n ? lo + 2 * w : n;
+            size_t i = lo, j = mid, k = lo;
+            while (i < mid && j < hi)
+                tmp[k++] = xy_less(xy, a[j], a[i]) ? a[j++] : a[i++];
+            while (i < mid) tmp[k++] = a[i++];
+            while (j < hi) tmp[k++] = a[j++];
+        }
+        memcpy(a, tmp, n * sizeof *a);
+    }
+}
+
+/* n == 0: empty; n == 1: one unbounded cell, no edge; otherwise the lines
+ * between consecutive sites along their common line. */
+vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out) {
+    vor_status st = VOR_ENOMEM;
+    uint32_t *ord = NULL, *tmp = NULL, *edges = NULL;
+    int32_t *ends = NULL;
+
+    if (!out) return VOR_EINVAL;
+    *out = NULL;
+    CONTRACT(s != NULL && vor__all_collinear(s));
+    const size_t n = s->n, ne = n > 1 ? n - 1 : 0;
+    if (n > MAX_INDEX) {
+        st = VOR_ETOOMANY;
+        goto fail;
+    }
+    edges = xmalloc(2 * ne, sizeof *edges);
+    ends = xmalloc(2 * ne, sizeof *ends);
+    ord = xmalloc(n, sizeof *ord);
+    tmp = xmalloc(n, sizeof *tmp);
+    if (!edges || !ends || !ord || !tmp) goto fail;
+    for (size_t i = 0; i < n; i++) ord[i] = (uint32_t)i;
+    sort_along(s->xy, ord, tmp, n);
+    for (size_t k = 0; k < ne; k++) {
+        edges[2 * k] = ord[k];
+        edges[2 * k + 1] = ord[k + 1];
+        ends[2 * k] = ends[2 * k + 1] = VOR_NONE;
+    }
+    free(ord);
+    free(tmp);
+    return vor__diagram_build(s, 0, edges, ends, ne, out);
+
+fail:
+    free(ord);
+    free(tmp);
+    free(edges);
+    free(ends);
+    return st;
+}
+
+/* ---- the dual triangles -------------------------------------------------- */
+
+/* Walking the cell of site i counter-clockwise, the edge that arrives at
+ * vertex v separates i from the site that follows i counter-clockwise on
+ * v's circle. Collecting that successor for every (vertex, site) pair gives
+ * each vertex's sites in counter-clockwise order, which are fanned from the
+ * smallest site. Triangles are emitted in vertex order. O(n) time; scratch
+ * of about 4 words per (vertex, site) pair. */
+vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
+                                 uint32_t **out, size_t *n_tri) {
+    vor_status st = VOR_ENOMEM;
+    uint32_t *off = NULL, *cur = NULL, *pairs = NULL, *nxt = NULL;
+    uint32_t *stamp = NULL, *tri = NULL;
+
+    if (!out || !n_tri) return VOR_EINVAL;
+    *out = NULL;
+    *n_tri = 0;
+    if (!d || !sites || d->n_sites != sites->n) return VOR_EINVAL;
+    const size_t nv = d->n_vertices, ne = d->n_edges, n = d->n_sites;
+
+    /* Degree of each vertex = number of edge ends there = number of sites
+     * on its circle; off[] holds the CSR offsets of the (site, successor)
+     * pairs, cur[] the fill cursors. */
+    off = calloc(nv + 1, sizeof *off);
+    cur = xmalloc(nv, sizeof *cur);
+    if (!off || !cur) goto fail;
+    for (size_t k = 0; k < 2 * ne; k++) {
+        int32_t v = d->edge_ends[k];
+        if (v >= 0) {
+            if ((size_t)v >= nv) goto invalid;
+            off[v + 1]++;
+        }
+    }
+    size_t ntri = 0;
+    for (size_t v = 0; v < nv; v++) {
+        if (off[v + 1] < 3) goto invalid;
+        ntri += off[v + 1] - 2;
+        off[v + 1] += off[v];
+        cur[v] = off[v];
+    }
+    size_t n_pairs = off[nv], filled = 0;
+    pairs = xmalloc(2 * n_pairs, sizeof *pairs);
+    nxt = xmalloc(n, sizeof *nxt);
+    stamp = xmalloc(n, sizeof *stamp);
+    tri = xmalloc(3 * ntri, sizeof *tri);
+    if (!pairs || !nxt || !stamp || !tri) goto fail;
+    for (size_t i = 0; i < n && nv > 0; i++) {
+        size_t a = d->cell_start[i], b = d->cell_start[i + 1];
+        if (b < a || b > 2 * ne) goto invalid;
+        size_t k = b - a, steps = d->cell_bounded[i] ? k : (k ? k - 1 : 0);
+        for (size_t t = 0; t < steps; t++) {
+            uint32_t ep = d->cell_edges[a + t], en = d->cell_edges[a + (t + 1) % k];
+            if (ep >= ne || en >= ne) goto invalid;
+            const int32_t *p = d->edge_ends + 2 * (size_t)ep;
+            const int32_t *q = d->edge_ends + 2 * (size_t)en;
+            int32_t v = p[0] >= 0 && (p[0] == q[0] || p[0] == q[1]) ? p[0]
+                      : p[1] >= 0 && (p[1] == q[0] || p[1] == q[1]) ? p[1]
+                      : -1;
+            const uint32_t *ab = d->edge_sites + 2 * (size_t)ep;
+            if (v < 0 || (ab[0] != i && ab[1] != i)) goto invalid;
+            if (cur[v] >= off[v + 1]) goto invalid;
+            pairs[2 * (size_t)cur[v]] = (uint32_t)i;
+            pairs[2 * (size_t)cur[v] + 1] = ab[0] == i ? ab[1] : ab[0];
+            cur[v]++;
+            filled++;
+        }
+    }
+    if (filled != n_pairs) goto invalid;
+    for (size_t i = 0; i < n; i++) stamp[i] = EMPTY;
+    size_t nt = 0;
+    for (size_t v = 0; v < nv; v++) {
+        size_t lo = off[v], hi = off[v + 1], m = hi - lo;
+        for (size_t k = lo; k < hi; k++) {
+            uint32_t x = pairs[2 * k], y = pairs[2 * k + 1];
+            if (x >= n || y >= n) goto invalid;
+            nxt[x] = y;
+            stamp[x] = (uint32_t)v;
+        }
+        uint32_t c0 = d->vertex_sites[3 * v];
+        if (c0 >= n || stamp[c0] != v) goto invalid;
+        uint32_t c = nxt[c0];
+        for (size_t t = 1; t + 1 < m; t++) {
+            if (stamp[c] != v || nxt[c] == c0) goto invalid;
+            tri[3 * nt] = c0;
+            tri[3 * nt + 1] = c;
+            tri[3 * nt + 2] = nxt[c];
+            nt++;
+            c = nxt[c];
+        }
+        if (stamp[c] != v || nxt[c] != c0) goto invalid;
+        for (size_t k = lo; k < hi; k++) stamp[pairs[2 * k]] = EMPTY;
+    }
+    free(off);
+    free(cur);
+    free(pairs);
+    free(nxt);
+    free(stamp);
+    *out = tri;
+    *n_tri = nt;
+    return VOR_OK;
+
+invalid:
+    st = VOR_EINVAL;
+fail:
+    free(off);
+    free(cur);
+    free(pairs);
+    free(nxt);
+    free(stamp);
+    free(tri);
+    return st;
+}
+
+/* ---- comparing ----------------------------------------------------------- */
+
+static int same(const void *p, const void *q, size_t bytes) {
+    if (bytes == 0) return 1;
+    if (!p || !q) return p == q;
+    return memcmp(p, q, bytes) == 0;
+}
+
+int vor_diagram_equal(const vor_diagram *p, const vor_diagram *q) {
+    if (p == q) return 1;
+    if (!p || !q) return 0;
+    if (p->n_sites != q->n_sites || p->n_vertices != q->n_vertices ||
+        p->n_edges != q->n_edges || p->n_rays != q->n_rays)
+        return 0;
+    size_t n = p->n_sites, nv = p->n_vertices, ne = p->n_edges, nr = p->n_rays;
+    if (!same(p->cell_start, q->cell_start, (n + 1) * sizeof(uint32_t)))
+        return 0;
+    size_t nc = p->cell_start ? p->cell_start[n] : 0;
+    return same(p->vertex_xy, q->vertex_xy, 2 * nv * sizeof(double)) &&
+           same(p->vertex_sites, q->vertex_sites, 3 * nv * sizeof(uint32_t)) &&
+           same(p->edge_sites, q->edge_sites, 2 * ne * sizeof(uint32_t)) &&
+           same(p->edge_ends, q->edge_ends, 2 * ne * sizeof(int32_t)) &&
+           same(p->ray_edge, q->ray_edge, nr * sizeof(uint32_t)) &&
+           same(p->ray_dir, q->ray_dir, 2 * nr * sizeof(double)) &&
+           same(p->cell_edges, q->cell_edges, nc * sizeof(uint32_t)) &&
+           same(p->cell_bounded, q->cell_bounded, n);
 }
