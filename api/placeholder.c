@@ -11,14 +11,6 @@ static api_code unavailable(api_problem *p) {
     return api_problem_set(p, API_UNAVAILABLE, "the codec is not built yet");
 }
 
-api_code api_parse_body(api_request *r, api_input kind, const char *body,
-                        size_t len, const api_limits *lim, api_problem *p) {
-    (void)r; (void)kind; (void)body; (void)len; (void)lim; return unavailable(p);
-}
-api_code api_generate(const char *distribution, size_t n, uint64_t seed,
-                      double **xy, api_problem *p) {
-    (void)distribution; (void)n; (void)seed; *xy = NULL; return unavailable(p);
-}
 void api_result_init(api_result *res) { memset(res, 0, sizeof *res); }
 void api_result_clear(api_result *res) { memset(res, 0, sizeof *res); }
 api_code api_compute(const api_request *r, api_result *res, api_problem *p) {
