@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <math.h>
 #include <signal.h>
@@ -612,6 +613,9 @@ static void test_compute_arguments(void **state) {
 }
 
 int main(void) {
+    /* VOR_TEST_FILTER / VOR_TEST_SKIP: run a subset (glob on test names) */
+    if (getenv("VOR_TEST_FILTER")) cmocka_set_test_filter(getenv("VOR_TEST_FILTER"));
+    if (getenv("VOR_TEST_SKIP")) cmocka_set_skip_filter(getenv("VOR_TEST_SKIP"));
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_square_by_hand),
         cmocka_unit_test(test_obtuse_triangle),
