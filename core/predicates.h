@@ -1,0 +1,163 @@
+/* predicates.h -- inline fast paths of the exact predicates.
+ *
+ * vor_orient2d() and vor_incircle() (declared in internal.h, defined in
+ * predicates.c) are exact for every finite double input. Most calls are
+ * decided by a floating-point evaluation whose rounding error is bounded a
+ * priori; only when the computed determinant is smaller than that bound, or
+ * when the operands are outside the range where the bound is proven, the
+ * out-of-line exact routines run. Hot loops (point location, cavity search,
+ * legalisation) include this header to get the filter inlined:
+ *
+ *     vor__orient2d_fast(a, b, c)     same result as vor_orient2d(a, b, c)
+ *     vor__incircle_fast(a, b, c, d)  same result as vor_incircle(a, b, c, d)
+ *
+ * Cost of a filtered call: orient2d 7 flops and 3 comparisons, incircle about
+ * 40 flops and a range test of its six differences. Requires the translation
+ * unit to be built with -ffp-contract=off (the Makefile does so for all C):
+ * a fused multiply-add would change the rounding the bounds are derived for.
+ *
+ * Error bounds. eps = 2^-53 is the unit roundoff of binary64 with rounding to
+ * nearest; every +, -, * returns the exact result times (1 + d), |d| <= eps,
+ * as long as nothing overflows and no product falls below 2^-1022 (sums and
+ * differences that fall below it are exact).
+ *
+ *   orient2d: l = (ax-cx)(by-cy), r = (ay-cy)(bx-cx), det = l - r. Each of
+ *   l, r carries two rounded differences and one rounded product, so
+ *   |l - L| <= (3 eps + 3 eps^2 + eps^3) |l| against the true product L
+ *   (error measured against the computed |l|, which is what we know). The
+ *   sign of det is right when |l - r| exceeds the sum of those errors; the
+ *   last subtraction rounds det by a relative eps, which cannot change its
+ *   sign, and costs a factor 1/(1 - eps) in the comparison. Computing
+ *   |l| + |r| and the bound itself adds two more roundings. Collecting the
+ *   terms, |det| > (3 eps + 12 eps^2 + O(eps^3)) (|l| + |r|) suffices, and
+ *   (3 + 16 eps) eps (Shewchuk's ccwerrboundA) covers it with about
+ *   4 eps^2 (|l| + |r|) to spare.
+ *   Underflow: a product below 2^-1022 has an absolute error of at most
+ *   2^-1075 instead. We require |l| + |r| >= 2^-960; then the spare
+ *   4 eps^2 (|l| + |r|) >= 2^-1064 exceeds the two possible absolute errors
+ *   2 * 2^-1075 by a factor of a thousand, so the bound stays valid.
+ *   Overflow: any inf or nan in the products makes |l| + |r| inf or nan,
+ *   and the test |l| + |r| <= DBL_MAX (false for nan) refuses to decide;
+ *   det cannot overflow without |l| + |r| overflowing too.
+ *
+ *   incircle: det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy)
+ *   + clift (adx bdy - bdx ady), evaluated left to right, with
+ *   alift = adx^2 + ady^2 and adx = ax - dx etc. Relative error of one
+ *   summand against its absolute value alift (|bdx cdy| + |cdx bdy|):
+ *   alift 4 eps (one difference squared: 3, the sum: 1), the parenthesis
+ *   4 eps (2 differences, 1 product, 1 subtraction), their product 1 eps:
+ *   9 eps; the first addition adds 1 eps of the permanent; the second
+ *   addition, like orient2d's subtraction, does not change the sign. So
+ *   10 eps times the permanent to first order; Shewchuk's iccerrboundA =
+ *   (10 + 96 eps) eps covers the second-order terms and the roundings of
+ *   the permanent and of the bound.
+ *   Underflow and overflow: a small permanent does not exclude a harmful
+ *   underflow here (an underflowed product can be multiplied by a large
+ *   lift), so instead every difference must be 0 or have a magnitude in
+ *   [2^-240, 2^240]. Then every nonzero square and cross product lies in
+ *   [2^-480, 2^481]; a nonzero difference of two such products is a
+ *   multiple of 2^-532; a nonzero lift times such a difference is at least
+ *   2^-1012; the largest value is below 2^966. No operation underflows or
+ *   overflows, and a zero factor makes its product exactly zero, so the
+ *   purely relative analysis above holds. The test also rejects inf and nan.
+ *
+ * Outside these ranges the exact routines first rescale the call's points
+ * by a power of two (exact) and try the same filter again, so very large or
+ * very small but otherwise ordinary coordinates stay cheap.
+ */
+#ifndef VOR_PREDICATES_H
+#define VOR_PREDICATES_H
+
+#include <float.h>
+#include <math.h>
+
+#include "internal.h"
+
+/* (3 + 16 eps) eps and (10 + 96 eps) eps with eps = 2^-53; both are exactly
+ * representable (their bits span fewer than 53 binary places). */
+#define VOR__CCW_BOUND (3.0 * 0x1p-53 + 16.0 * 0x1p-106)
+#define VOR__ICC_BOUND (10.0 * 0x1p-53 + 96.0 * 0x1p-106)
+/* |l| + |r| below this may hide underflowed products (see above). */
+#define VOR__CCW_MIN 0x1p-960
+/* Differences for the incircle filter: 0 or within [MIN, MAX]. */
+#define VOR__ICC_DMIN 0x1p-240
+#define VOR__ICC_DMAX 0x1p240
+
+/* The exact evaluations behind the filters (predicates.c). They accept any
+ * finite input and return the same as vor_orient2d / vor_incircle; they
+ * begin with the rescaled filter, so calling them directly is correct but
+ * slower than the _fast versions. */
+int vor__orient2d_exact(const double *a, const double *b, const double *c);
+int vor__incircle_exact(const double *a, const double *b, const double *c,
+                        const double *d);
+
+/* Sign of orient2d from the filter alone: +1 or -1 when proven, 0 when the
+ * filter cannot decide (0 says nothing about collinearity). */
+static inline int vor__orient2d_filter(const double *a, const double *b,
+                                       const double *c) {
+    double acx = a[0] - c[0], bcx = b[0] - c[0];
+    double acy = a[1] - c[1], bcy = b[1] - c[1];
+    double l = acx * bcy, r = acy * bcx;
+    double det = l - r;
+    double sum = fabs(l) + fabs(r);
+    if (sum >= VOR__CCW_MIN && sum <= DBL_MAX) {
+        double bound = VOR__CCW_BOUND * sum;
+        if (det > bound)
+            return 1;
+        if (-det > bound)
+            return -1;
+    }
+    return 0;
+}
+
+/* 1 if a difference is usable by the incircle filter (see above). */
+static inline int vor__icc_diff_ok(double d) {
+    double m = fabs(d);
+    return ((m >= VOR__ICC_DMIN) & (m <= VOR__ICC_DMAX)) | (m == 0);
+}
+
+/* Sign of incircle from the filter alone: +1 or -1 when proven, 0 when the
+ * filter cannot decide. */
+static inline int vor__incircle_filter(const double *a, const double *b,
+                                       const double *c, const double *d) {
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+    int ok = vor__icc_diff_ok(adx) & vor__icc_diff_ok(ady) &
+             vor__icc_diff_ok(bdx) & vor__icc_diff_ok(bdy) &
+             vor__icc_diff_ok(cdx) & vor__icc_diff_ok(cdy);
+    if (!ok)
+        return 0;
+    double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+    double cdxady = cdx * ady, adxcdy = adx * cdy;
+    double adxbdy = adx * bdy, bdxady = bdx * ady;
+    double alift = adx * adx + ady * ady;
+    double blift = bdx * bdx + bdy * bdy;
+    double clift = cdx * cdx + cdy * cdy;
+    double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
+                 clift * (adxbdy - bdxady);
+    double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * alift +
+                  (fabs(cdxady) + fabs(adxcdy)) * blift +
+                  (fabs(adxbdy) + fabs(bdxady)) * clift;
+    double bound = VOR__ICC_BOUND * perm;
+    if (det > bound)
+        return 1;
+    if (-det > bound)
+        return -1;
+    return 0;
+}
+
+/* Exact orient2d with the filter inlined; see vor_orient2d. */
+static inline int vor__orient2d_fast(const double *a, const double *b,
+                                     const double *c) {
+    int s = vor__orient2d_filter(a, b, c);
+    return s ? s : vor__orient2d_exact(a, b, c);
+}
+
+/* Exact incircle with the filter inlined; see vor_incircle. */
+static inline int vor__incircle_fast(const double *a, const double *b,
+                                     const double *c, const double *d) {
+    int s = vor__incircle_filter(a, b, c, d);
+    return s ? s : vor__incircle_exact(a, b, c, d);
+}
+
+#endif /* VOR_PREDICATES_H */

@@ -1,0 +1,525 @@
+/* test_predicates.c -- vor_orient2d and vor_incircle against an independent
+ * exact oracle.
+ *
+ * The oracle converts every coordinate to a GMP rational (mpq_set_d is
+ * exact) and evaluates the textbook determinants with rationals; it shares
+ * no code with core/predicates.c. Every case is checked through all entry
+ * points: the public functions, the inlined fast versions of predicates.h,
+ * and the exact routines called directly (so that the expansion and integer
+ * stages are exercised on ordinary input too, not only on what the filter
+ * passes on). Random cases use a fixed seed, printed; set VOR_TEST_SEED to
+ * replay another.
+ */
+#include <float.h>
+#include <gmp.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../../core/predicates.h"
+
+/* ---- oracle --------------------------------------------------------------- */
+
+static int oracle_orient(const double *a, const double *b, const double *c) {
+    mpq_t ax, ay, bx, by, cx, cy, l, r;
+    mpq_inits(ax, ay, bx, by, cx, cy, l, r, NULL);
+    mpq_set_d(ax, a[0]);
+    mpq_set_d(ay, a[1]);
+    mpq_set_d(bx, b[0]);
+    mpq_set_d(by, b[1]);
+    mpq_set_d(cx, c[0]);
+    mpq_set_d(cy, c[1]);
+    mpq_sub(ax, ax, cx); /* a - c */
+    mpq_sub(ay, ay, cy);
+    mpq_sub(bx, bx, cx); /* b - c */
+    mpq_sub(by, by, cy);
+    mpq_mul(l, ax, by);
+    mpq_mul(r, ay, bx);
+    mpq_sub(l, l, r);
+    int s = mpq_sgn(l);
+    mpq_clears(ax, ay, bx, by, cx, cy, l, r, NULL);
+    return s;
+}
+
+/* | ax-dx  ay-dy  (ax-dx)^2+(ay-dy)^2 |
+ * | bx-dx  by-dy  ...                 |   (cofactor expansion along the
+ * | cx-dx  cy-dy  ...                 |    first column) */
+static int oracle_incircle(const double *a, const double *b, const double *c,
+                           const double *d) {
+    mpq_t v[8], m[3][3], t, u, det;
+    const double *p[4] = {a, b, c, d};
+    for (int i = 0; i < 8; i++) {
+        mpq_init(v[i]);
+        mpq_set_d(v[i], p[i / 2][i % 2]);
+    }
+    mpq_inits(t, u, det, NULL);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            mpq_init(m[i][j]);
+        mpq_sub(m[i][0], v[2 * i], v[6]);
+        mpq_sub(m[i][1], v[2 * i + 1], v[7]);
+        mpq_mul(t, m[i][0], m[i][0]);
+        mpq_mul(u, m[i][1], m[i][1]);
+        mpq_add(m[i][2], t, u);
+    }
+    mpq_set_ui(det, 0, 1);
+    for (int i = 0; i < 3; i++) {
+        int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        /* m[i][0] * (m[i1][1] m[i2][2] - m[i2][1] m[i1][2]) */
+        mpq_mul(t, m[i1][1], m[i2][2]);
+        mpq_mul(u, m[i2][1], m[i1][2]);
+        mpq_sub(t, t, u);
+        mpq_mul(t, t, m[i][0]);
+        mpq_add(det, det, t);
+    }
+    int s = mpq_sgn(det);
+    for (int i = 0; i < 8; i++)
+        mpq_clear(v[i]);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            mpq_clear(m[i][j]);
+    mpq_clears(t, u, det, NULL);
+    return s;
+}
+
+/* ---- checks through every entry point ------------------------------------ */
+
+static long n_checked;
+
+static void fail_orient(const double *a, const double *b, const double *c,
+                        const char *fn, int got, int want) {
+    print_error("%s(%a,%a | %a,%a | %a,%a) = %d, oracle %d\n", fn, a[0], a[1],
+                b[0], b[1], c[0], c[1], got, want);
+    fail();
+}
+
+/* Checks orient2d on (a, b, c) and its rotations and reflection; returns
+ * the sign. */
+static int check_orient(const double *a, const double *b, const double *c) {
+    int want = oracle_orient(a, b, c);
+    int got = vor_orient2d(a, b, c);
+    if (got != want)
+        fail_orient(a, b, c, "vor_orient2d", got, want);
+    got = vor__orient2d_fast(a, b, c);
+    if (got != want)
+        fail_orient(a, b, c, "vor__orient2d_fast", got, want);
+    got = vor__orient2d_exact(a, b, c);
+    if (got != want)
+        fail_orient(a, b, c, "vor__orient2d_exact", got, want);
+    if (vor_orient2d(b, c, a) != want || vor_orient2d(c, a, b) != want)
+        fail_orient(a, b, c, "vor_orient2d rotated", -2, want);
+    if (vor_orient2d(b, a, c) != -want)
+        fail_orient(a, b, c, "vor_orient2d swapped", -2, want);
+    n_checked++;
+    return want;
+}
+
+static void fail_incircle(const double *a, const double *b, const double *c,
+                          const double *d, const char *fn, int got, int want) {
+    print_error("%s(%a,%a | %a,%a | %a,%a | %a,%a) = %d, oracle %d\n", fn,
+                a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1], got, want);
+    fail();
+}
+
+/* Checks incircle on (a, b, c, d) and an even and an odd permutation of
+ * a, b, c; returns the sign. */
+static int check_incircle(const double *a, const double *b, const double *c,
+                          const double *d) {
+    int want = oracle_incircle(a, b, c, d);
+    int got = vor_incircle(a, b, c, d);
+    if (got != want)
+        fail_incircle(a, b, c, d, "vor_incircle", got, want);
+    got = vor__incircle_fast(a, b, c, d);
+    if (got != want)
+        fail_incircle(a, b, c, d, "vor__incircle_fast", got, want);
+    got = vor__incircle_exact(a, b, c, d);
+    if (got != want)
+        fail_incircle(a, b, c, d, "vor__incircle_exact", got, want);
+    if (vor_incircle(b, c, a, d) != want)
+        fail_incircle(a, b, c, d, "vor_incircle rotated", -2, want);
+    if (vor_incircle(b, a, c, d) != -want)
+        fail_incircle(a, b, c, d, "vor_incircle swapped", -2, want);
+    n_checked++;
+    return want;
+}
+
+/* ---- random numbers ----------------------------------------------------- */
+
+static uint64_t rng_state;
+
+static uint64_t rng_next(void) { /* splitmix64 */
+    uint64_t z = (rng_state += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, 1). */
+static double rng_unit(void) {
+    return (double)(rng_next() >> 11) * 0x1p-53;
+}
+
+/* Uniform in [-1, 1). */
+static double rng_sym(void) { return 2 * rng_unit() - 1; }
+
+static int rng_int(int n) { return (int)(rng_next() % (uint64_t)n); }
+
+/* Any finite double, uniform over bit patterns. */
+static double rng_any_finite(void) {
+    for (;;) {
+        uint64_t u = rng_next();
+        double x;
+        memcpy(&x, &u, sizeof x);
+        if (isfinite(x))
+            return x;
+    }
+}
+
+static uint64_t test_seed(void) {
+    const char *s = getenv("VOR_TEST_SEED");
+    return s ? strtoull(s, NULL, 0) : 20240611u;
+}
+
+static int setup_seed(void **state) {
+    (void)state;
+    rng_state = test_seed();
+    printf("# test_predicates seed %llu (set VOR_TEST_SEED to change)\n",
+           (unsigned long long)rng_state);
+    return 0;
+}
+
+/* ---- (a) Shewchuk / Kettner near-collinear grid --------------------------- */
+
+static void test_orient_near_collinear_grid(void **state) {
+    (void)state;
+    const double b[2] = {12, 12}, c[2] = {24, 24};
+    int naive_wrong = 0, zeros = 0;
+    for (int i = 0; i < 256; i++) {
+        for (int j = 0; j < 256; j++) {
+            double a[2] = {0.5 + i * 0x1p-53, 0.5 + j * 0x1p-53};
+            /* the textbook formula in doubles, as most code writes it */
+            double naive = (b[0] - a[0]) * (c[1] - a[1]) -
+                           (b[1] - a[1]) * (c[0] - a[0]);
+            int ns = (naive > 0) - (naive < 0);
+            int want = check_orient(a, b, c);
+            if (ns != want)
+                naive_wrong++;
+            zeros += want == 0;
+        }
+    }
+    printf("# near-collinear grid: naive sign wrong in %d of 65536, "
+           "%d exactly collinear\n", naive_wrong, zeros);
+    assert_true(naive_wrong > 1000); /* the test has teeth */
+    assert_int_equal(zeros, 256);    /* a on the diagonal: i == j */
+}
+
+/* ---- (b) near-cocircular: integer points on x^2 + y^2 = 1105^2 ------------- */
+
+static int circle_points(int r, double (*pts)[2], int cap) {
+    int n = 0;
+    for (long x = -r; x <= r; x++) {
+        long y2 = (long)r * r - x * x;
+        long y = lround(sqrt((double)y2));
+        if (y * y != y2)
+            continue;
+        if (n < cap) {
+            pts[n][0] = (double)x;
+            pts[n][1] = (double)y;
+            n++;
+        }
+        if (y != 0 && n < cap) {
+            pts[n][0] = (double)x;
+            pts[n][1] = (double)-y;
+            n++;
+        }
+    }
+    return n;
+}
+
+static void test_incircle_near_cocircular(void **state) {
+    (void)state;
+    double pts[256][2];
+    int n = circle_points(1105, pts, 256);
+    printf("# %d integer points on x^2 + y^2 = 1105^2\n", n);
+    assert_true(n >= 100);
+    int signs[3] = {0, 0, 0};
+    const double offsets[3] = {0, 1e9, -3.0e5};
+    for (int k = 0; k < 20000; k++) {
+        double p[4][2];
+        double off = offsets[k % 3];
+        for (int i = 0; i < 4; i++) {
+            int m = rng_int(n);
+            p[i][0] = pts[m][0] + off;
+            p[i][1] = pts[m][1] - off;
+        }
+        int s = check_incircle(p[0], p[1], p[2], p[3]);
+        signs[s + 1]++;
+        check_orient(p[0], p[1], p[2]);
+        /* one ulp either way, in x or y, of any one point */
+        int which = rng_int(4), axis = rng_int(2);
+        double dir = rng_int(2) ? INFINITY : -INFINITY;
+        p[which][axis] = nextafter(p[which][axis], dir);
+        s = check_incircle(p[0], p[1], p[2], p[3]);
+        signs[s + 1]++;
+        check_orient(p[0], p[1], p[2]);
+    }
+    printf("# near-cocircular: %d outside, %d on, %d inside\n", signs[0],
+           signs[1], signs[2]);
+    assert_true(signs[1] > 10000); /* exactly cocircular cases were seen */
+    assert_true(signs[0] > 1000 && signs[2] > 1000);
+}
+
+/* ---- (c) random points at many scales and offsets --------------------------- */
+
+/* A random near-degenerate configuration: c close to the line ab, d close to
+ * the circle abc, both rounded to doubles, then scaled and shifted. */
+static void random_config(double scale, double off, double p[4][2]) {
+    for (int i = 0; i < 2; i++) {
+        p[i][0] = rng_sym();
+        p[i][1] = rng_sym();
+    }
+    int kind = rng_int(4);
+    if (kind == 0) { /* general position */
+        p[2][0] = rng_sym();
+        p[2][1] = rng_sym();
+        p[3][0] = rng_sym();
+        p[3][1] = rng_sym();
+    } else {
+        double t = rng_sym() * 2;
+        p[2][0] = p[0][0] + t * (p[1][0] - p[0][0]);
+        p[2][1] = p[0][1] + t * (p[1][1] - p[0][1]);
+        if (kind == 2) { /* c near the line, a somewhat off */
+            p[2][0] += rng_sym() * 1e-12;
+        }
+        /* d near the circle through a, b and some c' off the line */
+        double cx = rng_sym(), cy = rng_sym(), rr = 0.1 + rng_unit();
+        double th[3] = {rng_unit() * 6.283, rng_unit() * 6.283,
+                        rng_unit() * 6.283};
+        if (kind == 3) { /* all four near one circle */
+            for (int i = 0; i < 3; i++) {
+                p[i][0] = cx + rr * cos(th[i]);
+                p[i][1] = cy + rr * sin(th[i]);
+            }
+        }
+        double t4 = rng_unit() * 6.283;
+        p[3][0] = cx + rr * cos(t4);
+        p[3][1] = cy + rr * sin(t4);
+    }
+    for (int i = 0; i < 4; i++) {
+        p[i][0] = p[i][0] * scale + off;
+        p[i][1] = p[i][1] * scale - off;
+    }
+}
+
+static void test_random_scales(void **state) {
+    (void)state;
+    const double scales[] = {1, 1e-300, 1e300, 1e15, 1e-9, 0x1p-1060,
+                             1e-308, 1e307};
+    const double offsets[] = {0, 1e9, 1e9, 1e9};
+    long before = n_checked;
+    for (int k = 0; k < 60000; k++) {
+        double scale = scales[k % 8];
+        double off = offsets[rng_int(4)] * (scale > 1e200 ? 1e280 : 1);
+        double p[4][2];
+        random_config(scale, off, p);
+        check_orient(p[0], p[1], p[2]);
+        check_orient(p[0], p[1], p[3]);
+        check_incircle(p[0], p[1], p[2], p[3]);
+    }
+    printf("# random scales: %ld checks\n", n_checked - before);
+}
+
+/* ---- (d) mixed magnitudes in one call -------------------------------------- */
+
+static void test_mixed_magnitudes(void **state) {
+    (void)state;
+    const double mags[] = {1e300, 1e-300, 1, 0, 1e-320, 1e150, 1e-150,
+                           DBL_MAX, DBL_TRUE_MIN, 0x1p-1022};
+    const int nm = (int)(sizeof mags / sizeof mags[0]);
+    for (int k = 0; k < 20000; k++) {
+        double p[4][2];
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 2; j++) {
+                double m = mags[rng_int(nm)];
+                /* small integers times the magnitude make coincidences */
+                double v = m * (double)(rng_int(5) - 2);
+                if (rng_int(3) == 0)
+                    v = m * rng_sym();
+                if (!isfinite(v))
+                    v = m;
+                p[i][j] = v;
+            }
+        check_orient(p[0], p[1], p[2]);
+        check_incircle(p[0], p[1], p[2], p[3]);
+    }
+    /* the classic: one coordinate huge, another tiny, same call */
+    const double a[2] = {1e300, 1e-300}, b[2] = {-1e300, 1e-300},
+                 c[2] = {0, 1e-300}, d[2] = {0, -1e-300};
+    assert_int_equal(check_orient(a, b, c), 0);
+    assert_int_equal(check_orient(a, b, d), 1); /* a->b points to -x */
+    check_incircle(a, b, c, d);
+    /* random bit patterns: any finite doubles at all */
+    for (int k = 0; k < 5000; k++) {
+        double p[4][2];
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 2; j++)
+                p[i][j] = rng_any_finite();
+        check_orient(p[0], p[1], p[2]);
+        check_incircle(p[0], p[1], p[2], p[3]);
+    }
+}
+
+/* ---- (d') wide dynamic range that only the integer stage gets right ------- */
+
+/* Small integers mixed with small integers times 2^-e and with 2 - 2^-40
+ * style values: the exact determinant then has bits far below the largest
+ * term's, down to 2^(-4e), which expansions cannot hold once 4e exceeds the
+ * exponent range; the threshold that sends such calls to the integer stage
+ * is what this test checks (it fails if either threshold is raised by a
+ * quarter). */
+static void test_wide_dynamic_range(void **state) {
+    (void)state;
+    const int exps[] = {270, 280, 300, 330, 450, 540, 600, 800, 1000, 1070};
+    for (int k = 0; k < 60000; k++) {
+        int e = exps[k % 10];
+        double p[4][2];
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 2; j++) {
+                int r = rng_int(4);
+                double v = (double)(rng_int(5) - 2);
+                if (r == 0)
+                    v = ldexp(v, -e);
+                else if (r == 1)
+                    v += ldexp((double)(rng_int(5) - 2), -40);
+                p[i][j] = v;
+            }
+        check_orient(p[0], p[1], p[2]);
+        check_incircle(p[0], p[1], p[2], p[3]);
+    }
+}
+
+/* ---- (e) exact constructions: collinear and cocircular ------------------- */
+
+static void test_exact_constructions(void **state) {
+    (void)state;
+    double circ[256][2];
+    int nc = circle_points(5525, circ, 256); /* 5525 = 5^2 13 17 */
+    assert_true(nc >= 100);
+    int collinear = 0, cocircular = 0;
+    for (int k = 0; k < 20000; k++) {
+        /* exactly collinear: a + i (b - a) with small integers, scaled by a
+         * power of two (exact) and shifted by an exactly representable
+         * offset */
+        int e = rng_int(2000) - 1000;
+        double base[2] = {(double)(rng_int(2001) - 1000),
+                          (double)(rng_int(2001) - 1000)};
+        double step[2] = {(double)(rng_int(201) - 100),
+                          (double)(rng_int(201) - 100)};
+        double p[3][2];
+        for (int i = 0; i < 3; i++) {
+            int t = rng_int(41) - 20;
+            for (int j = 0; j < 2; j++)
+                p[i][j] = ldexp(base[j] + t * step[j], e);
+        }
+        collinear += check_orient(p[0], p[1], p[2]) == 0;
+
+        /* exactly cocircular: integer points on a circle about an integer
+         * centre, scaled by a power of two */
+        double cx = (double)(rng_int(20001) - 10000);
+        double cy = (double)(rng_int(20001) - 10000);
+        double q[4][2];
+        int f = rng_int(1800) - 900;
+        for (int i = 0; i < 4; i++) {
+            int m = rng_int(nc);
+            q[i][0] = ldexp(circ[m][0] + cx, f);
+            q[i][1] = ldexp(circ[m][1] + cy, f);
+        }
+        cocircular += check_incircle(q[0], q[1], q[2], q[3]) == 0;
+    }
+    printf("# exact constructions: %d collinear, %d cocircular of 20000\n",
+           collinear, cocircular);
+    assert_int_equal(collinear, 20000);
+    assert_int_equal(cocircular, 20000);
+}
+
+/* ---- small hand-made cases ---------------------------------------------- */
+
+static void test_basic_signs(void **state) {
+    (void)state;
+    const double o[2] = {0, 0}, x[2] = {1, 0}, y[2] = {0, 1}, xy[2] = {1, 1};
+    const double in[2] = {0.25, 0.25}, out[2] = {2, 2};
+    assert_int_equal(check_orient(o, x, y), 1);
+    assert_int_equal(check_orient(o, y, x), -1);
+    assert_int_equal(check_orient(o, x, x), 0);
+    assert_int_equal(check_orient(o, o, o), 0);
+    assert_int_equal(check_incircle(o, x, y, in), 1);
+    assert_int_equal(check_incircle(o, x, y, out), -1);
+    assert_int_equal(check_incircle(o, x, y, xy), 0);
+    assert_int_equal(check_incircle(o, x, y, o), 0);
+    assert_int_equal(check_incircle(o, y, x, in), -1); /* clockwise */
+    /* overflowing differences: the filter must not trust inf */
+    const double big1[2] = {DBL_MAX, -DBL_MAX}, big2[2] = {-DBL_MAX, DBL_MAX};
+    assert_int_equal(check_orient(big1, big2, o), 0);
+    const double big3[2] = {-DBL_MAX, -DBL_MAX};
+    assert_int_equal(check_orient(big1, big2, big3), 1);
+    check_incircle(big1, big2, big3, o);
+    /* subnormal differences: the filter must not trust underflow */
+    const double t1[2] = {DBL_TRUE_MIN, 0}, t2[2] = {0, DBL_TRUE_MIN},
+                 t3[2] = {3 * DBL_TRUE_MIN, 5 * DBL_TRUE_MIN};
+    assert_int_equal(check_orient(o, t1, t2), 1);
+    check_orient(t1, t2, t3);
+    check_incircle(o, t1, t2, t3);
+    check_incircle(t1, t2, t3, o);
+}
+
+/* ---- bulk random agreement ---------------------------------------------- */
+
+static void test_random_bulk(void **state) {
+    (void)state;
+    long before = n_checked;
+    for (int k = 0; k < 40000; k++) {
+        double p[4][2];
+        int mode = k % 3;
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 2; j++) {
+                if (mode == 0) /* small integers: many exact degeneracies */
+                    p[i][j] = (double)(rng_int(7) - 3);
+                else if (mode == 1) /* integer pixels */
+                    p[i][j] = (double)rng_int(1 << 12);
+                else
+                    p[i][j] = rng_sym();
+            }
+        check_orient(p[0], p[1], p[2]);
+        check_incircle(p[0], p[1], p[2], p[3]);
+    }
+    printf("# random bulk: %ld checks; total so far %ld\n",
+           n_checked - before, n_checked);
+}
+
+static int report_total(void **state) {
+    (void)state;
+    printf("# test_predicates: %ld cases checked against the oracle\n",
+           n_checked);
+    return 0;
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_basic_signs),
+        cmocka_unit_test(test_orient_near_collinear_grid),
+        cmocka_unit_test(test_incircle_near_cocircular),
+        cmocka_unit_test(test_random_scales),
+        cmocka_unit_test(test_mixed_magnitudes),
+        cmocka_unit_test(test_wide_dynamic_range),
+        cmocka_unit_test(test_exact_constructions),
+        cmocka_unit_test(test_random_bulk),
+    };
+    return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
+                                       report_total);
+}
