@@ -241,6 +241,8 @@ double api_clock_ms(void);
 api_code api_compute(const api_request *r, api_result *res, api_problem *p);
 
 typedef struct api_compare {
+    api_timings t;          /* shared: queue_ms and parse_ms are the
+                               caller's; total_ms is set by the run */
     api_result res[VOR_ALGORITHM_COUNT];
     vor_status status[VOR_ALGORITHM_COUNT]; /* per algorithm: VOR_OK or why
                                                it has no diagram */
@@ -263,12 +265,15 @@ const char *api_format_mime(api_format f);
 
 /* Writes the result in r->format (appending to out). The timings are the
  * body's last member: the writer measures its own time into
- * t->serialize_ms and adds it to t->total_ms before writing them (so the
- * caller can reuse t for a Server-Timing header). t may be &res->t.
- * API_UNAVAILABLE when memory runs out (out is then cleared). */
+ * t->serialize_ms and sets t->total_ms = max(t->total_ms, queue + parse +
+ * prepare + compute + clip) + serialize_ms before writing them (so a caller
+ * may put its own wall-clock time so far in total_ms, and can reuse t for a
+ * Server-Timing header). t may be &res->t. API_UNAVAILABLE when memory runs
+ * out (out is then cleared). */
 api_code api_write_result(const api_request *r, const api_result *res,
                           api_timings *t, api_buf *out, api_problem *p);
-/* JSON only: per-algorithm timings, counts and agreement. */
+/* JSON only: per-algorithm status, timings and counts, agreement, and the
+ * shared timings (c->t, with the writer's serialize_ms). */
 api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p);
 /* application/problem+json body for p: type (API_PROBLEM_TYPE_PREFIX +

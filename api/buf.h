@@ -22,6 +22,12 @@
  * set. */
 int api__buf_reserve(api_buf *b, size_t extra);
 
+/* api__buf_reserve with the common case (room already there) inline. */
+static inline int api__reserve(api_buf *b, size_t extra) {
+    if (!b->oom && b->cap - b->len > extra) return 0;
+    return api__buf_reserve(b, extra);
+}
+
 static inline void api__put(api_buf *b, const char *s, size_t n) {
     memcpy(b->data + b->len, s, n);
     b->len += n;

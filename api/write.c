@@ -1,0 +1,122 @@
+/* write.c -- the writers' entry points: format dispatch, the timings
+ * member every document ends with, and the comparison document.
+ *
+ * Each format has its own file (write_json.c, write_geojson.c,
+ * write_svg.c, write_binary.c) appending to one api_buf; this file measures
+ * the serialisation time they report and turns a failed allocation into a
+ * problem with an empty buffer. */
+#include <math.h>
+#include <string.h>
+
+#include "codec.h"
+
+void api__finish_timings(api_timings *t, double t0) {
+    double parts = t->queue_ms + t->parse_ms + t->prepare_ms + t->compute_ms +
+                   t->clip_ms;
+    t->serialize_ms = api_clock_ms() - t0;
+    t->total_ms = (t->total_ms > parts ? t->total_ms : parts) + t->serialize_ms;
+}
+
+/* Milliseconds rounded to the microsecond, so the document shows "12.345"
+ * rather than seventeen digits of clock noise. */
+static double ms(double v) { return round(v * 1000) / 1000; }
+
+int api__put_timings(api_buf *out, const api_timings *t) {
+    static const char *const keys[] = {
+        "{\"queue_ms\":", ",\"parse_ms\":",     ",\"prepare_ms\":",
+        ",\"compute_ms\":", ",\"clip_ms\":",    ",\"serialize_ms\":",
+        ",\"total_ms\":",
+    };
+    const double v[] = {t->queue_ms,   t->parse_ms,     t->prepare_ms,
+                        t->compute_ms, t->clip_ms,      t->serialize_ms,
+                        t->total_ms};
+    if (api__reserve(out, 7 * (20 + API_NUM_MAXLEN) + 2)) return -1;
+    for (int i = 0; i < 7; i++) {
+        api__put(out, keys[i], strlen(keys[i]));
+        api__put_double(out, ms(v[i]));
+    }
+    api__putc(out, '}');
+    out->data[out->len] = 0;
+    return 0;
+}
+
+void api__midpoint(const double *a, const double *b, double *out) {
+    for (int k = 0; k < 2; k++) {
+        double m = (a[k] + b[k]) / 2;
+        if (!isfinite(m)) m = a[k] / 2 + b[k] / 2; /* the sum overflowed */
+        out[k] = m;
+    }
+}
+
+static api_code out_of_memory(api_buf *out, api_problem *p) {
+    api_buf_clear(out);
+    return api_problem_set(p, API_UNAVAILABLE,
+                           "out of memory while writing the response");
+}
+
+api_code api_write_result(const api_request *r, const api_result *res,
+                          api_timings *t, api_buf *out, api_problem *p) {
+    double t0 = api_clock_ms();
+    if (res->sites == NULL || res->diagram == NULL) {
+        return api_problem_set(p, API_INTERNAL, "no result to write");
+    }
+    int rc;
+    switch (r->format) {
+    case API_FMT_GEOJSON: rc = api__write_geojson(r, res, t, t0, out); break;
+    case API_FMT_SVG: rc = api__write_svg(r, res, t, t0, out); break;
+    case API_FMT_BINARY: rc = api__write_binary(r, res, t, t0, out); break;
+    case API_FMT_TIMINGS:
+        api__finish_timings(t, t0);
+        rc = api__put_timings(out, t);
+        break;
+    default: rc = api__write_json(r, res, t, t0, out); break;
+    }
+    if (rc != 0 || out->oom) return out_of_memory(out, p);
+    p->code = API_OK;
+    return API_OK;
+}
+
+api_code api_write_compare(const api_request *r, const api_compare *c,
+                           api_buf *out, api_problem *p) {
+    (void)r;
+    double t0 = api_clock_ms();
+    const vor_sites *s = NULL;
+    for (int a = 0; a < VOR_ALGORITHM_COUNT && s == NULL; a++) s = c->res[a].sites;
+    api_buf_printf(out, "{\"n_input\":%zu,\"n_sites\":%zu,\"agree\":%s,"
+                        "\"disagreement\":",
+                   s ? s->n_input : 0, s ? s->n : 0, c->agree ? "true" : "false");
+    if (c->disagreement[0]) {
+        api__put_json_string(out, c->disagreement);
+    } else {
+        API_BUF_LIT(out, "null");
+    }
+    API_BUF_LIT(out, ",\"algorithms\":[");
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        const api_result *res = &c->res[a];
+        api_problem pa;
+        api_code code = api_problem_from_status(&pa, c->status[a]);
+        api_buf_printf(out, "%s{\"algorithm\":\"%s\",\"status\":\"%s\"",
+                       a ? "," : "", vor_algorithm_name((vor_algorithm)a),
+                       code == API_OK ? "ok" : api_code_slug(code));
+        if (code != API_OK) {
+            API_BUF_LIT(out, ",\"detail\":");
+            api__put_json_string(out, pa.detail);
+        } else {
+            const vor_diagram *d = res->diagram;
+            api_buf_printf(out, ",\"n_vertices\":%zu,\"n_edges\":%zu,"
+                                "\"n_rays\":%zu",
+                           d->n_vertices, d->n_edges, d->n_rays);
+        }
+        API_BUF_LIT(out, ",\"timings\":");
+        api__put_timings(out, &res->t);
+        API_BUF_LIT(out, "}");
+    }
+    API_BUF_LIT(out, "],\"timings\":");
+    api_timings t = c->t;
+    api__finish_timings(&t, t0);
+    api__put_timings(out, &t);
+    API_BUF_LIT(out, "}");
+    if (out->oom) return out_of_memory(out, p);
+    p->code = API_OK;
+    return API_OK;
+}

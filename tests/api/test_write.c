@@ -1,0 +1,351 @@
+/* test_write.c -- the writers (JSON, GeoJSON, SVG, binary, timings,
+ * compare) on hand-made diagrams, read back by independent readers
+ * (result_check.h) and compared value by value.
+ *
+ * The diagrams are written out by hand so that these tests depend on no
+ * algorithm: three sites around one vertex (with a duplicate input point),
+ * two sites (one line), and a vertex whose coordinates overflowed. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "result_check.h"
+
+/* Sites (0,0), (2,0), (0,2) and input 3 = (2,0) again. One vertex (1,1);
+ * three rays; three unbounded cells. Clipped to [-1,-1,3,3]. */
+static double tri_xy[] = {0, 0, 2, 0, 0, 2};
+static uint32_t tri_input_of[] = {0, 1, 2};
+static uint32_t tri_site_of[] = {0, 1, 2, 1};
+static vor_sites tri_sites = {4, 3, tri_xy, tri_input_of, tri_site_of};
+static double tri_vxy[] = {1, 1};
+static uint32_t tri_vsites[] = {0, 1, 2};
+static uint32_t tri_esites[] = {0, 1, 0, 2, 1, 2};
+static int32_t tri_eends[] = {0, -1, 0, -1, 0, -1};
+static uint32_t tri_ray_edge[] = {0, 1, 2};
+static double tri_ray_dir[] = {0, -1, -1, 0, 0.70710678118654757, 0.70710678118654757};
+static uint32_t tri_cell_start[] = {0, 2, 4, 6};
+static uint32_t tri_cell_edges[] = {0, 1, 2, 0, 1, 2};
+static uint8_t tri_bounded[] = {0, 0, 0};
+static vor_diagram tri_diagram = {3,           1,          tri_vxy,        tri_vsites,
+                                  3,           tri_esites, tri_eends,      3,
+                                  tri_ray_edge, tri_ray_dir, tri_cell_start, tri_cell_edges,
+                                  tri_bounded};
+static double tri_seg[] = {1, 1, 1, -1, 1, 1, -1, 1, 1, 1, 3, 3};
+static uint8_t tri_seg_in[] = {1, 1, 1};
+static uint32_t tri_poly_start[] = {0, 4, 8, 12};
+static double tri_poly_xy[] = {-1, -1, 1, -1, 1, 1, -1, 1, 1, -1, 3, -1,
+                               3,  3,  1, 1,  -1, 1, 1, 1, 3,  3, -1, 3};
+static vor_clipped tri_clipped = {{-1, -1, 3, 3}, tri_seg, tri_seg_in, tri_poly_start,
+                                  tri_poly_xy};
+static uint32_t tri_triangles[] = {0, 1, 2};
+
+static api_result tri_result(void) {
+    api_result res;
+    api_result_init(&res);
+    res.algorithm = VOR_BOWYER_WATSON;
+    res.sites = &tri_sites;
+    res.diagram = &tri_diagram;
+    res.clipped = &tri_clipped;
+    res.triangles = tri_triangles;
+    res.n_triangles = 1;
+    res.t.parse_ms = 1.25;
+    res.t.prepare_ms = 0.5;
+    res.t.compute_ms = 2;
+    return res;
+}
+
+/* Two sites (1e308, 0) and (1.5e308, 0): one line, x = 1.25e308, whose
+ * midpoint overflows when computed as (a + b) / 2. Clipped to a box around
+ * the first site only: the line misses it, the first cell is the whole box,
+ * the second cell's polygon is empty. */
+static double line_xy[] = {1e308, 0, 1.5e308, 0};
+static uint32_t line_input_of[] = {0, 1};
+static uint32_t line_site_of[] = {0, 1};
+static vor_sites line_sites = {2, 2, line_xy, line_input_of, line_site_of};
+static uint32_t line_esites[] = {0, 1};
+static int32_t line_eends[] = {-1, -1};
+static uint32_t line_ray_edge[] = {0};
+static double line_ray_dir[] = {0, 1};
+static uint32_t line_cell_start[] = {0, 1, 2};
+static uint32_t line_cell_edges[] = {0, 0};
+static uint8_t line_bounded[] = {0, 0};
+static vor_diagram line_diagram = {2, 0, NULL, NULL, 1, line_esites, line_eends,
+                                   1, line_ray_edge, line_ray_dir, line_cell_start,
+                                   line_cell_edges, line_bounded};
+static double line_seg[] = {0, 0, 0, 0};
+static uint8_t line_seg_in[] = {0};
+static uint32_t line_poly_start[] = {0, 4, 4};
+static double line_poly_xy[] = {0.9e308, -1, 1.1e308, -1, 1.1e308, 1, 0.9e308, 1};
+static vor_clipped line_clipped = {{0.9e308, -1, 1.1e308, 1}, line_seg, line_seg_in,
+                                   line_poly_start, line_poly_xy};
+
+static api_result line_result(void) {
+    api_result res;
+    api_result_init(&res);
+    res.sites = &line_sites;
+    res.diagram = &line_diagram;
+    res.clipped = &line_clipped;
+    return res;
+}
+
+static api_request request(api_format f, unsigned parts, int parts_given) {
+    api_request r;
+    api_request_init(&r);
+    r.format = f;
+    r.parts = parts;
+    r.parts_given = parts_given;
+    return r;
+}
+
+static void write_ok(const api_request *r, const api_result *res, api_buf *out) {
+    api_problem p;
+    api_timings t = res->t;
+    api_buf_init(out);
+    api_code c = api_write_result(r, res, &t, out, &p);
+    if (c != API_OK) fail_msg("write: %s", p.detail);
+    assert_false(out->oom);
+    assert_true(t.serialize_ms >= 0);
+    assert_true(t.total_ms >= t.parse_ms + t.prepare_ms + t.compute_ms);
+}
+
+static void test_json_all_parts(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_JSON, API_PART_ALL, 1);
+    r.has_bounds = 1;
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, API_PART_ALL, 1);
+    /* A few literal checks, so the oracle itself is anchored. */
+    assert_non_null(strstr(out.data, "\"algorithm\":\"bowyer-watson\""));
+    assert_non_null(strstr(out.data, "\"duplicates\":[[3,1]]"));
+    assert_non_null(strstr(out.data, "\"sites\":[[0,0],[2,0],[0,2],[2,0]]"));
+    assert_non_null(strstr(out.data, "\"vertices\":[[1,1]]"));
+    assert_non_null(strstr(out.data, "{\"sites\":[1,2],\"ends\":[0,null],"
+                                     "\"ray\":[0.7071067811865476,0.7071067811865476]}"));
+    assert_non_null(strstr(out.data, "{\"site\":0,\"edges\":[0,1],\"bounded\":false}"));
+    assert_non_null(strstr(out.data, "\"triangles\":[[0,1,2]]"));
+    assert_non_null(strstr(out.data, "\"clipped\":{\"bounds\":[-1,-1,3,3],"
+                                     "\"bounds_given\":true,\"edges\":[[1,1,1,-1]"));
+    assert_non_null(strstr(out.data, "\"parse_ms\":1.25,\"prepare_ms\":0.5,"
+                                     "\"compute_ms\":2,"));
+    assert_int_equal(out.data[out.len - 1], '}');
+    api_buf_clear(&out);
+}
+
+static void test_json_default_and_chosen_parts(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    /* Defaults: vertices, edges, cells; bounds add "clipped". */
+    api_request r = request(API_FMT_JSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, API_PART_DEFAULT, 0);
+    api_buf_clear(&out);
+    r.has_bounds = 1;
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, API_PART_DEFAULT | API_PART_CLIPPED, 1);
+    api_buf_clear(&out);
+    /* Chosen parts are exactly what is written, bounds or not. */
+    r = request(API_FMT_JSON, API_PART_SITES, 1);
+    r.has_bounds = 1;
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, API_PART_SITES, 1);
+    api_buf_clear(&out);
+    r = request(API_FMT_JSON, 0, 1);
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, 0, 0);
+    api_buf_clear(&out);
+}
+
+static void test_json_line_and_overflow(void **state) {
+    (void)state;
+    api_result res = line_result();
+    api_request r = request(API_FMT_JSON, API_PART_ALL, 1);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_json(out.data, out.len, &res, API_PART_ALL, 0);
+    assert_non_null(strstr(out.data, "\"ends\":[null,null],\"ray\":[0,1],"
+                                     "\"point\":[1.25e308,0]"));
+    assert_non_null(strstr(out.data, "\"cells\":[[[9e307,-1],[1.1e308,-1],"
+                                     "[1.1e308,1],[9e307,1]],[]]"));
+    api_buf_clear(&out);
+
+    /* A vertex whose coordinates overflowed is written as null. */
+    double vxy[] = {INFINITY, -INFINITY};
+    vor_diagram d = tri_diagram;
+    d.vertex_xy = vxy;
+    res = tri_result();
+    res.diagram = &d;
+    r = request(API_FMT_JSON, API_PART_VERTICES, 1);
+    write_ok(&r, &res, &out);
+    assert_non_null(strstr(out.data, "\"vertices\":[[null,null]]"));
+    rc_check_json(out.data, out.len, &res, API_PART_VERTICES, 0);
+    api_buf_clear(&out);
+}
+
+static void test_geojson(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_GEOJSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_geojson(out.data, out.len, &res);
+    assert_non_null(strstr(out.data, "\"bounds_given\":false,\"bounds_note\":"));
+    assert_non_null(strstr(out.data, "{\"type\":\"Polygon\",\"coordinates\":"
+                                     "[[[-1,-1],[1,-1],[1,1],[-1,1],[-1,-1]]]}"));
+    api_buf_clear(&out);
+    res = line_result();
+    r.has_bounds = 1;
+    write_ok(&r, &res, &out);
+    rc_check_geojson(out.data, out.len, &res); /* the second geometry is null */
+    assert_non_null(strstr(out.data, "\"geometry\":null"));
+    assert_null(strstr(out.data, "bounds_note"));
+    api_buf_clear(&out);
+}
+
+static void test_svg(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_SVG, API_PART_DEFAULT, 0);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_svg(out.data, out.len, &res);
+    /* Box [-1,-1,3,3] -> viewBox 1000 x 1000; site (2,0) at (750, 750);
+     * edge (1,1)-(3,3) from (500,500) to (1000,0). */
+    assert_non_null(strstr(out.data, "viewBox=\"0 0 1000 1000\""));
+    assert_non_null(strstr(out.data, "<circle cx=\"750\" cy=\"750\""));
+    assert_non_null(strstr(out.data, "M500 500L1000 0"));
+    api_buf_clear(&out);
+    res = line_result();
+    write_ok(&r, &res, &out);
+    rc_check_svg(out.data, out.len, &res);
+    api_buf_clear(&out);
+}
+
+static void test_binary(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_BINARY, API_PART_DEFAULT | API_PART_TRIANGLES, 1);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    rc_check_binary(out.data, out.len, &res, 1);
+    api_buf_clear(&out);
+    r = request(API_FMT_BINARY, API_PART_DEFAULT, 0);
+    res.clipped = NULL;
+    write_ok(&r, &res, &out);
+    rc_check_binary(out.data, out.len, &res, 0);
+    api_buf_clear(&out);
+    res = line_result();
+    write_ok(&r, &res, &out);
+    rc_check_binary(out.data, out.len, &res, 0);
+    api_buf_clear(&out);
+}
+
+static void test_timings_only(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_TIMINGS, API_PART_DEFAULT, 0);
+    api_buf out;
+    api_problem p;
+    api_buf_init(&out);
+    res.t.total_ms = 100; /* the caller's wall clock so far wins over the sum */
+    assert_int_equal(api_write_result(&r, &res, &res.t, &out, &p), API_OK);
+    json_error_t err;
+    json_t *j = json_loadb(out.data, out.len, 0, &err);
+    assert_non_null(j);
+    rc_check_timings(j);
+    assert_true(json_number_value(json_object_get(j, "total_ms")) >= 100);
+    assert_true(res.t.total_ms >= 100 && res.t.total_ms == 100 + res.t.serialize_ms);
+    json_decref(j);
+    api_buf_clear(&out);
+}
+
+static void test_out_of_memory(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    for (int f = API_FMT_JSON; f <= API_FMT_TIMINGS; f++) {
+        api_request r = request((api_format)f, API_PART_ALL, 1);
+        api_buf out;
+        api_problem p;
+        api_buf_init(&out);
+        out.oom = 1; /* as if an earlier growth had failed */
+        api_timings t = res.t;
+        assert_int_equal(api_write_result(&r, &res, &t, &out, &p), API_UNAVAILABLE);
+        assert_int_equal(api_code_http(p.code), 503);
+        assert_null(out.data);
+        assert_int_equal(out.len, 0);
+    }
+    /* Writing without a result is our own error, not a crash. */
+    api_result empty;
+    api_result_init(&empty);
+    api_request r = request(API_FMT_JSON, API_PART_ALL, 1);
+    api_buf out;
+    api_problem p;
+    api_buf_init(&out);
+    assert_int_equal(api_write_result(&r, &empty, &empty.t, &out, &p), API_INTERNAL);
+}
+
+static void test_compare_document(void **state) {
+    (void)state;
+    api_compare c;
+    api_compare_init(&c);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        c.res[a] = tri_result();
+        c.res[a].algorithm = (vor_algorithm)a;
+    }
+    c.status[VOR_FORTUNE] = VOR_EUNAVAILABLE;
+    c.agree = 0;
+    strcpy(c.disagreement, "fortune: algorithm not available");
+    c.t.parse_ms = 3;
+    api_request r = request(API_FMT_JSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    api_problem p;
+    api_buf_init(&out);
+    assert_int_equal(api_write_compare(&r, &c, &out, &p), API_OK);
+    json_error_t err;
+    json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
+    if (j == NULL) fail_msg("compare is not JSON: %s: %s", err.text, out.data);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_input")), 4);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_sites")), 3);
+    assert_true(json_is_false(json_object_get(j, "agree")));
+    assert_string_equal(json_string_value(json_object_get(j, "disagreement")),
+                        "fortune: algorithm not available");
+    json_t *algos = json_object_get(j, "algorithms");
+    assert_int_equal(json_array_size(algos), 3);
+    json_t *f = json_array_get(algos, 0);
+    assert_string_equal(json_string_value(json_object_get(f, "algorithm")), "fortune");
+    assert_string_equal(json_string_value(json_object_get(f, "status")), "not-implemented");
+    assert_null(json_object_get(f, "n_edges"));
+    json_t *b = json_array_get(algos, 1);
+    assert_string_equal(json_string_value(json_object_get(b, "algorithm")), "bowyer-watson");
+    assert_string_equal(json_string_value(json_object_get(b, "status")), "ok");
+    assert_int_equal(json_integer_value(json_object_get(b, "n_edges")), 3);
+    assert_int_equal(json_integer_value(json_object_get(b, "n_vertices")), 1);
+    rc_check_timings(json_object_get(b, "timings"));
+    rc_check_timings(json_object_get(j, "timings"));
+    assert_true(json_number_value(json_object_get(json_object_get(j, "timings"),
+                                                  "parse_ms")) == 3);
+    json_decref(j);
+    api_buf_clear(&out);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_json_all_parts),
+        cmocka_unit_test(test_json_default_and_chosen_parts),
+        cmocka_unit_test(test_json_line_and_overflow),
+        cmocka_unit_test(test_geojson),
+        cmocka_unit_test(test_svg),
+        cmocka_unit_test(test_binary),
+        cmocka_unit_test(test_timings_only),
+        cmocka_unit_test(test_out_of_memory),
+        cmocka_unit_test(test_compare_document),
+    };
+    return cmocka_run_group_tests_name("api/write", tests, NULL, NULL);
+}
