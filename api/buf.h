@@ -39,8 +39,28 @@ static inline void api__put(api_buf *b, const char *s, size_t n) {
 
 static inline void api__putc(api_buf *b, char c) { b->data[b->len++] = c; }
 
+extern const char api__digit_pairs[201];
+
 /* Decimal digits of v at buf (at most 10 bytes); returns the length. */
-size_t api__fmt_u32(uint32_t v, char *buf);
+static inline size_t api__fmt_u32(uint32_t v, char *buf) {
+    size_t n = v < 10 ? 1 : v < 100 ? 2 : v < 1000 ? 3 : v < 10000 ? 4
+             : v < 100000 ? 5 : v < 1000000 ? 6 : v < 10000000 ? 7
+             : v < 100000000 ? 8 : v < 1000000000 ? 9 : 10;
+    char *p = buf + n;
+    while (v >= 100) {
+        uint32_t r = v % 100;
+        v /= 100;
+        p -= 2;
+        memcpy(p, api__digit_pairs + 2 * r, 2);
+    }
+    if (v >= 10) {
+        p -= 2;
+        memcpy(p, api__digit_pairs + 2 * v, 2);
+    } else {
+        *--p = (char)('0' + v);
+    }
+    return n;
+}
 
 static inline void api__put_u32(api_buf *b, uint32_t v) {
     b->len += api__fmt_u32(v, b->data + b->len);

@@ -70,6 +70,12 @@ void api__finish_timings(api_timings *t, double t0);
 /* Appends the timings as a JSON object. */
 int api__put_timings(api_buf *out, const api_timings *t);
 
+/* Input index of site i. Without duplicates the map is the identity, and
+ * skipping it saves a cache miss per index on large diagrams. */
+static inline uint32_t api__input_index(const vor_sites *s, uint32_t i) {
+    return s->n == s->n_input ? i : s->input_of[i];
+}
+
 /* Midpoint of sites a and b, finite for finite sites. */
 void api__midpoint(const double *a, const double *b, double *out);
 

@@ -48,23 +48,31 @@ const char digit_pairs[201] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-// Writes the decimal digits of v (no leading zeros, v > 0) ending just
-// before `end`; returns the number of digits.
-int put_digits_backwards(uint64_t v, char *end) {
-    char *p = end;
-    while (v >= 100) {
+const uint64_t pow10_table[20] = {
+    1u, 10u, 100u, 1000u, 10000u, 100000u, 1000000u, 10000000u, 100000000u,
+    1000000000u, 10000000000u, 100000000000u, 1000000000000u,
+    10000000000000u, 100000000000000u, 1000000000000000u,
+    10000000000000000u, 100000000000000000u, 1000000000000000000u,
+    10000000000000000000u};
+
+// Number of decimal digits of v (1 for 0): log10 from the bit length
+// (1233/4096 ~ log10 2), corrected by one comparison.
+inline int count_digits(uint64_t v) {
+    int bits = 64 - __builtin_clzll(v | 1);
+    int k = (bits * 1233) >> 12;
+    return k + (v >= pow10_table[k]);
+}
+
+// Writes exactly n digits of v (with leading zeros; v < 10^n) at o.
+inline void put_fixed(uint64_t v, int n, char *o) {
+    char *p = o + n;
+    while (p - o >= 2) {
         unsigned r = (unsigned)(v % 100);
         v /= 100;
         p -= 2;
         std::memcpy(p, digit_pairs + 2 * r, 2);
     }
-    if (v >= 10) {
-        p -= 2;
-        std::memcpy(p, digit_pairs + 2 * v, 2);
-    } else {
-        *--p = (char)('0' + v);
-    }
-    return (int)(end - p);
+    if (p > o) *--p = (char)('0' + v % 10);
 }
 
 }  // namespace
@@ -155,43 +163,45 @@ extern "C" size_t api_num_format(double v, char *buf) {
     }
     auto r = jkj::dragonbox::to_decimal(v, jkj::dragonbox::policy::sign::ignore,
                                         jkj::dragonbox::policy::trailing_zero::remove);
-    char digits[24];
-    int k = put_digits_backwards(r.significand, digits + sizeof digits);
-    const char *d = digits + sizeof digits - k;
+    uint64_t sig = r.significand;
+    int k = count_digits(sig);
     int pos = k + r.exponent;  // value = 0.d1d2...dk * 10^pos
+    // The digits are written one byte to the right of where they start,
+    // so that a decimal point can be made by moving the digits before it
+    // one byte left (at most 17 bytes, no division).
     if (pos > 0 && pos <= 17) {
         if (pos >= k) {  // integer: digits then zeros
-            std::memcpy(o, d, (size_t)k);
+            put_fixed(sig, k, o);
             o += k;
             std::memset(o, '0', (size_t)(pos - k));
             o += pos - k;
-        } else {
-            std::memcpy(o, d, (size_t)pos);
-            o += pos;
-            *o++ = '.';
-            std::memcpy(o, d + pos, (size_t)(k - pos));
-            o += k - pos;
+        } else {  // digits on both sides of the point
+            put_fixed(sig, k, o + 1);
+            for (int i = 0; i < pos; i++) o[i] = o[i + 1];
+            o[pos] = '.';
+            o += k + 1;
         }
     } else if (pos <= 0 && pos > -6) {
         *o++ = '0';
         *o++ = '.';
         std::memset(o, '0', (size_t)-pos);
         o += -pos;
-        std::memcpy(o, d, (size_t)k);
+        put_fixed(sig, k, o);
         o += k;
     } else {
-        *o++ = d[0];
+        put_fixed(sig, k, o + 1);
+        o[0] = o[1];
         if (k > 1) {
-            *o++ = '.';
-            std::memcpy(o, d + 1, (size_t)(k - 1));
-            o += k - 1;
+            o[1] = '.';
+            o += k + 1;
+        } else {
+            o += 1;
         }
         *o++ = 'e';
         int e = pos - 1;
         if (e < 0) { *o++ = '-'; e = -e; }
-        char eb[8];
-        int ne = put_digits_backwards((uint64_t)e, eb + sizeof eb);
-        std::memcpy(o, eb + sizeof eb - ne, (size_t)ne);
+        int ne = e >= 100 ? 3 : e >= 10 ? 2 : 1;
+        put_fixed((uint64_t)e, ne, o);
         o += ne;
     }
     return (size_t)(o - buf);

@@ -108,8 +108,8 @@ int api__write_binary(const api_request *r, const api_result *res,
     if (put_f64s(out, d->vertex_xy, 2 * d->n_vertices)) return -1;
     for (size_t e = 0; e < d->n_edges; e++) {
         if (e % CHUNK == 0 && api__reserve(out, 16 * CHUNK)) return -1;
-        le32(out, s->input_of[d->edge_sites[2 * e]]);
-        le32(out, s->input_of[d->edge_sites[2 * e + 1]]);
+        le32(out, api__input_index(s, d->edge_sites[2 * e]));
+        le32(out, api__input_index(s, d->edge_sites[2 * e + 1]));
         le32(out, (uint32_t)d->edge_ends[2 * e]);
         le32(out, (uint32_t)d->edge_ends[2 * e + 1]);
     }
@@ -123,7 +123,7 @@ int api__write_binary(const api_request *r, const api_result *res,
     if (tri) {
         for (size_t k = 0; k < 3 * res->n_triangles; k++) {
             if (k % CHUNK == 0 && api__reserve(out, 4 * CHUNK + 8)) return -1;
-            le32(out, s->input_of[res->triangles[k]]);
+            le32(out, api__input_index(s, res->triangles[k]));
         }
         if (api__reserve(out, 8)) return -1;
         pad8(out);

@@ -57,7 +57,7 @@ int api__write_geojson(const api_request *r, const api_result *res,
         }
         if (api__reserve(out, 64)) return -1;
         API__PUTS(out, ",\"properties\":{\"site\":");
-        api__put_u32(out, s->input_of[i]);
+        api__put_u32(out, api__input_index(s, i));
         if (res->diagram->cell_bounded[i]) {
             API__PUTS(out, ",\"bounded\":true}}");
         } else {

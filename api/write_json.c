@@ -49,7 +49,7 @@ static int write_header(const api_result *res, api_buf *out) {
                    vor_algorithm_name(res->algorithm), s->n_input, s->n,
                    d->n_vertices, d->n_edges);
     int first = 1;
-    for (size_t i = 0; i < s->n_input; i++) {
+    for (size_t i = 0; i < s->n_input && s->n < s->n_input; i++) {
         uint32_t f = s->input_of[s->site_of[i]];
         if (f == i) continue;
         if (api__reserve(out, 32)) return -1;
@@ -104,9 +104,9 @@ static int write_edges(const api_result *res, api_buf *out) {
         int32_t e0 = d->edge_ends[2 * e], e1 = d->edge_ends[2 * e + 1];
         if (e) api__putc(out, ',');
         API__PUTS(out, "{\"sites\":[");
-        api__put_u32(out, s->input_of[a]);
+        api__put_u32(out, api__input_index(s, a));
         api__putc(out, ',');
-        api__put_u32(out, s->input_of[b]);
+        api__put_u32(out, api__input_index(s, b));
         API__PUTS(out, "],\"ends\":[");
         put_end(out, e0);
         api__putc(out, ',');
@@ -137,7 +137,7 @@ static int write_cells(const api_result *res, api_buf *out) {
         if (api__reserve(out, 64 + 12 * (size_t)(hi - lo))) return -1;
         if (i) api__putc(out, ',');
         API__PUTS(out, "{\"site\":");
-        api__put_u32(out, s->input_of[i]);
+        api__put_u32(out, api__input_index(s, i));
         API__PUTS(out, ",\"edges\":[");
         for (uint32_t k = lo; k < hi; k++) {
             if (k > lo) api__putc(out, ',');
@@ -161,7 +161,7 @@ static int write_triangles(const api_result *res, api_buf *out) {
         api__putc(out, '[');
         for (int k = 0; k < 3; k++) {
             if (k) api__putc(out, ',');
-            api__put_u32(out, s->input_of[res->triangles[3 * t + k]]);
+            api__put_u32(out, api__input_index(s, res->triangles[3 * t + k]));
         }
         api__putc(out, ']');
     }
