@@ -120,6 +120,28 @@ $(eval $(call VARIANT,tsan,$(B)/tsan))
 
 -include $(shell find $(B) -name '*.d' 2>/dev/null)
 
+# ---- embedded web assets (owned by server/) ------------------------------
+# voronoid serves the page (the files in web/) and openapi.yaml from its own
+# binary: server/embed.sh writes them as byte arrays into <variant>/gen/
+# embedded.c (rewritten only when they change, so it is run every time and
+# the object is rebuilt only then), and every variant archives the object
+# into its libvorsrv.a.
+EMBED_FILES = $(sort $(wildcard web/*)) $(wildcard openapi.yaml)
+.PHONY: embed-force
+embed-force: ;
+define EMBED
+$(1)/gen/embedded.c: server/embed.sh embed-force
+	@mkdir -p $$(@D)
+	@sh server/embed.sh $$@ $$(EMBED_FILES)
+$(1)/gen/embedded.o: $(1)/gen/embedded.c server/assets.h | check-deps
+	$$(CC) $$(BASE_CFLAGS) $$($(2)_FLAGS) -I. -c $$< -o $$@
+$(1)/libvorsrv.a: $(1)/gen/embedded.o
+endef
+$(eval $(call EMBED,$(B),release))
+$(eval $(call EMBED,$(B)/asan,asan))
+$(eval $(call EMBED,$(B)/tsan,tsan))
+# ---- end of embedded web assets -------------------------------------------
+
 tbin = $(patsubst %.c,$(1)/%,$(2))
 
 # ---- run -----------------------------------------------------------------
