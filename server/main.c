@@ -1,8 +1,85 @@
-/* main.c -- the voronoid daemon's entry point (placeholder while the
- * server is written: it reports that it is not available yet). */
+/* main.c -- voronoid's entry point: configuration, signals, shutdown.
+ *
+ * SIGTERM and SIGINT are blocked before any thread starts, so only the main
+ * thread receives them (sigwait). On the first one: stop accepting, wait up
+ * to --grace for in-flight requests, answer what is left with 503, stop,
+ * exit 0. A second signal during the grace period cuts it short.
+ */
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
-int main(void) {
-    fputs("voronoid: not built yet\n", stderr);
-    return 1;
+#include "config.h"
+#include "server.h"
+
+static const char *env_lookup(const char *name) { return getenv(name); }
+
+int main(int argc, char **argv) {
+    srv_config cfg;
+    char err[512];
+    long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+
+    switch (srv_config_parse(argc, argv, env_lookup, cpus > 0 ? (int)cpus : 1,
+                             &cfg, err, sizeof err)) {
+    case SRV_CONFIG_HELP:
+        srv_config_usage(stdout);
+        return 0;
+    case SRV_CONFIG_ERROR:
+        fprintf(stderr, "voronoid: %s\n", err);
+        return 2;
+    case SRV_CONFIG_OK:
+        break;
+    }
+
+    sigset_t sigs;
+    sigemptyset(&sigs);
+    sigaddset(&sigs, SIGTERM);
+    sigaddset(&sigs, SIGINT);
+    pthread_sigmask(SIG_BLOCK, &sigs, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    setvbuf(stderr, NULL, _IOLBF, 0);
+    srv_config_print(&cfg, stderr);
+    srv_server *s = srv_server_new(&cfg, STDERR_FILENO, err, sizeof err);
+    if (s == NULL) {
+        fprintf(stderr, "voronoid: %s\n", err);
+        return 1;
+    }
+    int ipv6 = strchr(cfg.bind, ':') != NULL;
+    fprintf(stderr, "voronoid: listening on http://%s%s%s:%d/\n",
+            ipv6 ? "[" : "", cfg.bind, ipv6 ? "]" : "", srv_server_port(s));
+
+    int sig = 0;
+    sigwait(&sigs, &sig);
+    fprintf(stderr, "voronoid: %s: draining %zu request(s), grace %g s\n",
+            sig == SIGINT ? "SIGINT" : "SIGTERM", srv_server_in_flight(s),
+            cfg.grace);
+    srv_server_drain(s);
+
+    /* Wait for in-flight requests, watching for a second signal. */
+    struct timespec zero = {0, 0};
+    double waited = 0;
+    while (srv_server_wait_idle(s, 0.05) != 0 && waited < cfg.grace) {
+        waited += 0.05;
+        if (sigtimedwait(&sigs, NULL, &zero) > 0) {
+            fprintf(stderr, "voronoid: second signal: not waiting longer\n");
+            break;
+        }
+    }
+    if (srv_server_in_flight(s) > 0) {
+        fprintf(stderr, "voronoid: grace over: answering %zu request(s) "
+                "with 503\n", srv_server_in_flight(s));
+        srv_server_cancel(s);
+        srv_server_wait_idle(s, 2.0);
+    }
+    if (srv_server_free(s) != 0) {
+        fprintf(stderr, "voronoid: stopped (a computation was still "
+                "running)\n");
+        fflush(stderr);
+        _exit(0);
+    }
+    fprintf(stderr, "voronoid: stopped\n");
+    return 0;
 }

@@ -1,0 +1,79 @@
+/* routes.c -- matching a method and path against the route table.
+ *
+ * Exact paths first, then the asset catch-all (any path the asset store
+ * knows, for GET and HEAD). A path that exists with another method gives
+ * 405 and the Allow list; OPTIONS is allowed wherever the path exists
+ * (CORS preflight). Linear in the number of routes; no allocation.
+ */
+#include "routes.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static const struct {
+    const char *path;
+    unsigned methods;
+} table[SRV_ROUTE_COUNT] = {
+#define SRV__ROUTE_INFO(id, path, methods) [id] = {path, methods},
+    SRV_ROUTE_TABLE(SRV__ROUTE_INFO)
+#undef SRV__ROUTE_INFO
+};
+
+unsigned srv_method_bit(const char *m) {
+    if (m == NULL) return SRV_M_OTHER;
+    if (strcmp(m, "GET") == 0) return SRV_M_GET;
+    if (strcmp(m, "HEAD") == 0) return SRV_M_HEAD;
+    if (strcmp(m, "POST") == 0) return SRV_M_POST;
+    if (strcmp(m, "OPTIONS") == 0) return SRV_M_OPTIONS;
+    return SRV_M_OTHER;
+}
+
+const char *srv_route_name(srv_route r) {
+    return (unsigned)r < SRV_ROUTE_COUNT ? table[r].path : "other";
+}
+
+void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
+    static const struct {
+        unsigned bit;
+        const char *name;
+    } names[] = {{SRV_M_GET, "GET"}, {SRV_M_HEAD, "HEAD"},
+                 {SRV_M_POST, "POST"}};
+    size_t len = 0;
+    if (allow_size == 0) return;
+    allow[0] = '\0';
+    unsigned m = (unsigned)r < SRV_ROUTE_COUNT ? table[r].methods : 0;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        if (m & names[i].bit) {
+            int k = snprintf(allow + len, allow_size - len, "%s, ",
+                             names[i].name);
+            if (k < 0 || (size_t)k >= allow_size - len) return;
+            len += (size_t)k;
+        }
+    }
+    snprintf(allow + len, allow_size - len, "OPTIONS");
+}
+
+srv_match srv_route_match(const char *method, const char *path,
+                          int (*has_asset)(const char *path, void *ctx),
+                          void *ctx, srv_route *route, char *allow,
+                          size_t allow_size) {
+    unsigned bit = srv_method_bit(method);
+    srv_route found = SRV_ROUTE_OTHER;
+    if (allow_size > 0) allow[0] = '\0';
+    for (int r = 0; r < SRV_ROUTE_COUNT; r++) {
+        if (r == SRV_ROUTE_ASSET || r == SRV_ROUTE_OTHER) continue;
+        if (path != NULL && strcmp(path, table[r].path) == 0) {
+            found = (srv_route)r;
+            break;
+        }
+    }
+    if (found == SRV_ROUTE_OTHER && path != NULL && path[0] == '/' &&
+        has_asset != NULL && has_asset(path, ctx))
+        found = SRV_ROUTE_ASSET;
+    *route = found;
+    if (found == SRV_ROUTE_OTHER) return SRV_MATCH_NOT_FOUND;
+    srv_route_allow(found, allow, allow_size);
+    if (bit == SRV_M_OPTIONS || (table[found].methods & bit))
+        return SRV_MATCH_OK;
+    return SRV_MATCH_METHOD;
+}

@@ -1,0 +1,1095 @@
+/* server.c -- voronoid's HTTP front: libmicrohttpd callbacks, body intake,
+ * dispatch to handlers, compute jobs, responses, access log and metrics.
+ *
+ * A request goes through the access handler several times (libmicrohttpd's
+ * protocol):
+ *
+ *   1st call, headers only: a `req` is made; the route is matched. Whatever
+ *      can be refused without the body is refused NOW, before the client
+ *      sends it: 415 (Content-Type), 413 (Content-Length over --max-body),
+ *      and 404/405 when a body is announced. A response queued in this call
+ *      makes libmicrohttpd close the connection, which is what a refused
+ *      upload needs; every other answer waits for the last call so that the
+ *      connection stays open (keep-alive).
+ *   data calls: the body is appended to a buffer sized from Content-Length
+ *      (chunked bodies grow, limited to --max-body as they arrive; the rest
+ *      of an oversized body is read and dropped, then 413).
+ *   last call (no more data): static routes answer at once. POST /voronoi
+ *      and /compare become a compute_job: the connection is suspended and the
+ *      job queued in the srv_pool. Queue full -> 503 + Retry-After.
+ *   after resume: the job's reply (diagram, problem, 504 or 503) is queued.
+ *
+ * A compute_job is shared by the connection and the pool (reference count
+ * 2). Its reply is written exactly once, by the pool's done() callback (on
+ * the worker when run() finished in time, on the timer thread at the
+ * deadline, or by srv_server_cancel), and only then is the connection
+ * resumed; run()'s own output lives in separate fields, so a late run()
+ * never races the reply. The job is freed when both references are gone.
+ *
+ * Every response carries X-Request-Id (echoed or generated), CORS headers
+ * and, while draining, Connection: close. Every request that got as far as
+ * our handler ends in on_completed: one access-log line and the metrics.
+ */
+#include "server.h"
+
+#include <arpa/inet.h>
+#include <math.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "../api/api.h"
+#include "accesslog.h"
+#include "assets.h"
+#include "gzip.h"
+#include "metrics.h"
+#include "pool.h"
+#include "routes.h"
+
+#define MAX_OPTIONS 16      /* query parameters per request */
+#define RETRY_AFTER_S 1     /* Retry-After on 503 */
+
+struct srv_server {
+    srv_config cfg;
+    struct MHD_Daemon *daemon;
+    MHD_socket quiesced_fd;
+    srv_pool *pool;
+    srv_metrics *metrics;
+    srv_assets *assets;
+    int port;
+    int log_fd;
+    atomic_int draining;
+    atomic_long in_flight;
+    atomic_ullong next_id;
+    uint64_t id_seed;
+};
+
+/* ---- replies and jobs --------------------------------------------------- */
+
+typedef struct reply {
+    int status;
+    char *body;            /* malloc'd, handed to libmicrohttpd */
+    size_t len;
+    const char *ctype;
+    int gzipped;
+    int retry_after;       /* seconds; 0 = no header */
+    char timing[400];      /* Server-Timing value, "" for none */
+    const char *algorithm; /* for the log, NULL when none */
+    long long points;      /* for the log, -1 when unknown */
+} reply;
+
+typedef struct compute_job {
+    srv_job base; /* first: the pool hands back &base */
+    atomic_int refs;
+    srv_server *srv;
+    struct MHD_Connection *conn;
+    int compare;
+    api_input kind;
+    char *body;
+    size_t len;
+    char *accept;
+    size_t n_opts;
+    char *opt_key[MAX_OPTIONS], *opt_val[MAX_OPTIONS];
+    int gzip_ok;
+    char instance[16];
+    reply out;            /* run()'s result, private to run() and done(RAN) */
+    reply r;              /* the answer, written once by done() */
+    atomic_int answered;
+} compute_job;
+
+enum { PH_BODY, PH_WAIT, PH_DONE };
+
+typedef struct req {
+    srv_server *srv;
+    int64_t t0_ns;
+    double unix_t0;
+    srv_route route;
+    srv_match match;
+    unsigned method;
+    char method_name[16];
+    char path[256];
+    char id[80];
+    char allow[48];
+    int phase;
+    /* body intake */
+    int collect;          /* keep the body (compute routes) */
+    char *body;
+    size_t len, cap;
+    int too_large;
+    uint64_t content_length;
+    int has_cl;
+    api_input kind;
+    /* outcome */
+    int status;
+    size_t bytes;
+    const char *algorithm;
+    long long points;
+    compute_job *job;
+} req;
+
+static void reply_clear(reply *r) {
+    free(r->body);
+    r->body = NULL;
+    r->len = 0;
+}
+
+static void job_unref(compute_job *j) {
+    if (atomic_fetch_sub_explicit(&j->refs, 1, memory_order_acq_rel) != 1)
+        return;
+    free(j->body);
+    free(j->accept);
+    for (size_t i = 0; i < j->n_opts; i++) {
+        free(j->opt_key[i]);
+        free(j->opt_val[i]);
+    }
+    reply_clear(&j->out);
+    reply_clear(&j->r);
+    free(j);
+}
+
+/* Replaces non-printable and non-ASCII bytes so a value can go into a
+ * problem detail (JSON strings must be valid UTF-8). */
+static void printable(char *dst, size_t size, const char *src, size_t max) {
+    size_t k = 0;
+    if (size == 0) return;
+    for (size_t i = 0; src != NULL && src[i] && k + 4 < size; i++) {
+        if (i >= max) {
+            memcpy(dst + k, "...", 3);
+            k += 3;
+            break;
+        }
+        unsigned char c = (unsigned char)src[i];
+        dst[k++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
+    }
+    dst[k] = '\0';
+}
+
+/* Fills r with the problem+json body for p. Cannot fail: without memory the
+ * body is a fixed string. */
+static void problem_reply(reply *r, const api_problem *p,
+                          const char *instance) {
+    api_buf b;
+    api_buf_init(&b);
+    api_write_problem(p, instance, &b);
+    reply_clear(r);
+    r->status = api_code_http(p->code);
+    r->ctype = "application/problem+json";
+    if (b.oom || b.data == NULL) {
+        api_buf_clear(&b);
+        static const char fallback[] =
+            "{\"type\":\"/problems/unavailable\",\"title\":\"Service "
+            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}";
+        r->status = 503;
+        r->body = malloc(sizeof fallback);
+        if (r->body != NULL) {
+            memcpy(r->body, fallback, sizeof fallback);
+            r->len = sizeof fallback - 1;
+        }
+        return;
+    }
+    r->body = api_buf_take(&b, &r->len);
+}
+
+static void problemf(reply *r, const char *instance, api_code code,
+                     const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+static void problemf(reply *r, const char *instance, api_code code,
+                     const char *fmt, ...) {
+    api_problem p;
+    memset(&p, 0, sizeof p);
+    p.code = code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    va_end(ap);
+    problem_reply(r, &p, instance);
+}
+
+/* Compresses r's body in place when the client takes gzip and it pays. */
+static void maybe_gzip(reply *r, int gzip_ok) {
+    if (!gzip_ok || r->len < SRV_GZIP_MIN || r->body == NULL ||
+        strcmp(r->ctype, "application/octet-stream") == 0)
+        return;
+    char *z;
+    size_t zn;
+    if (srv_gzip(r->body, r->len, r->len > ((size_t)1 << 20) ? 1 : 6, &z,
+                 &zn) != 0)
+        return; /* uncompressed is still a correct answer */
+    if (zn >= r->len) {
+        free(z);
+        return;
+    }
+    free(r->body);
+    r->body = z;
+    r->len = zn;
+    r->gzipped = 1;
+}
+
+static double ms_since(int64_t t0_ns) {
+    return (double)(srv_now_ns() - t0_ns) / 1e6;
+}
+
+/* The worker's part: parse, compute, serialize, compress. Writes j->out. */
+static void job_run(srv_job *base) {
+    compute_job *j = (compute_job *)base;
+    srv_server *s = j->srv;
+    reply *out = &j->out;
+    double queue_ms = (double)(base->started_ns - base->queued_ns) / 1e6;
+    api_request r;
+    api_problem p;
+    api_limits lim = {s->cfg.max_points};
+    api_code c = API_OK;
+    api_buf b;
+
+    memset(&p, 0, sizeof p);
+    api_buf_init(&b);
+    api_request_init(&r);
+    out->points = -1;
+    out->algorithm = NULL;
+
+    /* Precedence: query parameters > JSON body > Accept > defaults. */
+    int64_t t_parse = srv_now_ns();
+    if (j->accept != NULL) c = api_format_from_accept(&r, j->accept, &p);
+    if (c == API_OK)
+        c = api_parse_body(&r, j->kind, j->body ? j->body : "", j->len, &lim,
+                           &p);
+    free(j->body);
+    j->body = NULL;
+    for (size_t i = 0; c == API_OK && i < j->n_opts; i++)
+        c = api_request_option(&r, j->opt_key[i], j->opt_val[i], &p);
+    double parse_ms = ms_since(t_parse);
+    if (c == API_OK) {
+        out->points = (long long)r.n;
+        out->algorithm = j->compare ? "all" : vor_algorithm_name(r.algorithm);
+    }
+    if (c != API_OK) {
+        problem_reply(out, &p, j->instance);
+        snprintf(out->timing, sizeof out->timing,
+                 "queue;dur=%.3f, parse;dur=%.3f", queue_ms, parse_ms);
+        goto done;
+    }
+    if (srv_job_abandoned(base)) goto done; /* nobody will read it */
+
+    if (!j->compare) {
+        api_result res;
+        api_result_init(&res);
+        c = api_compute(&r, &res, &p);
+        if (c == API_OK) {
+            srv_metrics_compute(s->metrics, r.algorithm, r.n,
+                                res.t.compute_ms / 1e3);
+            if (!srv_job_abandoned(base)) {
+                api_timings t = res.t;
+                t.queue_ms = queue_ms;
+                t.parse_ms = parse_ms;
+                t.total_ms += queue_ms + parse_ms;
+                c = api_write_result(&r, &res, &t, &b, &p);
+                if (c == API_OK) {
+                    out->status = 200;
+                    out->ctype = api_format_mime(r.format);
+                    out->body = api_buf_take(&b, &out->len);
+                    snprintf(out->timing, sizeof out->timing,
+                             "queue;dur=%.3f, parse;dur=%.3f, "
+                             "prepare;dur=%.3f, compute;dur=%.3f, "
+                             "clip;dur=%.3f, serialize;dur=%.3f, "
+                             "total;dur=%.3f",
+                             t.queue_ms, t.parse_ms, t.prepare_ms,
+                             t.compute_ms, t.clip_ms, t.serialize_ms,
+                             t.total_ms);
+                }
+            }
+        }
+        api_result_clear(&res);
+    } else {
+        api_compare *cmp = malloc(sizeof *cmp);
+        if (cmp == NULL) {
+            c = api_problem_set(&p, API_UNAVAILABLE, "out of memory");
+        } else {
+            api_compare_init(cmp);
+            c = api_compare_run(&r, cmp, &p);
+            if (c == API_OK) {
+                double algo_ms = 0;
+                char per[200] = "";
+                size_t k = 0;
+                for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+                    const api_timings *t = &cmp->res[a].t;
+                    if (cmp->status[a] == VOR_OK)
+                        srv_metrics_compute(s->metrics, (vor_algorithm)a, r.n,
+                                            t->compute_ms / 1e3);
+                    algo_ms += t->total_ms;
+                    int w = snprintf(per + k, sizeof per - k,
+                                     ", %s;dur=%.3f",
+                                     vor_algorithm_name((vor_algorithm)a),
+                                     t->total_ms);
+                    if (w > 0 && (size_t)w < sizeof per - k) k += (size_t)w;
+                }
+                if (!srv_job_abandoned(base)) {
+                    int64_t t_ser = srv_now_ns();
+                    c = api_write_compare(&r, cmp, &b, &p);
+                    double ser_ms = ms_since(t_ser);
+                    if (c == API_OK) {
+                        out->status = 200;
+                        out->ctype = "application/json";
+                        out->body = api_buf_take(&b, &out->len);
+                        snprintf(out->timing, sizeof out->timing,
+                                 "queue;dur=%.3f, parse;dur=%.3f%s, "
+                                 "serialize;dur=%.3f, total;dur=%.3f",
+                                 queue_ms, parse_ms, per, ser_ms,
+                                 queue_ms + parse_ms + algo_ms + ser_ms);
+                    }
+                }
+            }
+            api_compare_clear(cmp);
+            free(cmp);
+        }
+    }
+    if (c != API_OK) problem_reply(out, &p, j->instance);
+
+done:
+    api_buf_clear(&b);
+    api_request_clear(&r);
+    if (!srv_job_abandoned(base) && out->body != NULL)
+        maybe_gzip(out, j->gzip_ok);
+}
+
+/* Publishes the answer and resumes the connection. Exactly once per job. */
+static void job_done(srv_job *base, srv_job_outcome outcome) {
+    compute_job *j = (compute_job *)base;
+    if (outcome == SRV_JOB_RAN) {
+        j->r = j->out;
+        memset(&j->out, 0, sizeof j->out);
+        if (j->r.body == NULL && j->r.status == 0)
+            problemf(&j->r, j->instance, API_INTERNAL,
+                     "the computation produced no answer");
+    } else if (outcome == SRV_JOB_EXPIRED) {
+        problemf(&j->r, j->instance, API_TIMEOUT,
+                 "the deadline of %g s passed before the answer was ready "
+                 "(the request was %s); send fewer points or ask the "
+                 "operator for a longer --timeout",
+                 j->srv->cfg.timeout,
+                 base->started_ns ? "being computed" : "waiting in the queue");
+        j->r.points = -1;
+    } else {
+        problemf(&j->r, j->instance, API_UNAVAILABLE,
+                 "the service is shutting down and could not finish this "
+                 "request; retry");
+        j->r.retry_after = RETRY_AFTER_S;
+        j->r.points = -1;
+    }
+    atomic_store_explicit(&j->answered, 1, memory_order_release);
+    MHD_resume_connection(j->conn);
+}
+
+static void job_release(srv_job *base) { job_unref((compute_job *)base); }
+
+/* ---- responses ----------------------------------------------------------- */
+
+static void add_common_headers(req *q, struct MHD_Response *resp) {
+    MHD_add_response_header(resp, "X-Request-Id", q->id);
+    MHD_add_response_header(resp, "Access-Control-Allow-Origin", "*");
+    MHD_add_response_header(resp, "Access-Control-Expose-Headers",
+                            "Server-Timing, X-Request-Id, Retry-After, "
+                            "Content-Encoding");
+    MHD_add_response_header(resp, "Timing-Allow-Origin", "*");
+    if (atomic_load(&q->srv->draining))
+        MHD_add_response_header(resp, "Connection", "close");
+}
+
+/* Queues resp (destroyed here) with status; records what the log needs. */
+static enum MHD_Result send_response(req *q, struct MHD_Connection *conn,
+                                     unsigned status,
+                                     struct MHD_Response *resp,
+                                     size_t body_len) {
+    if (resp == NULL) return MHD_NO; /* out of memory: drop the connection */
+    add_common_headers(q, resp);
+    enum MHD_Result rc = MHD_queue_response(conn, status, resp);
+    MHD_destroy_response(resp);
+    q->status = (int)status;
+    q->bytes = body_len;
+    q->phase = PH_DONE;
+    return rc;
+}
+
+/* Sends a reply (its body is taken). */
+static enum MHD_Result send_reply(req *q, struct MHD_Connection *conn,
+                                  reply *r, const char *allow,
+                                  const char *cache_control) {
+    struct MHD_Response *resp = MHD_create_response_from_buffer(
+        r->len, r->body ? r->body : (void *)"",
+        r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);
+    if (resp == NULL) {
+        reply_clear(r);
+        return MHD_NO;
+    }
+    size_t len = r->len;
+    r->body = NULL;
+    r->len = 0;
+    MHD_add_response_header(resp, "Content-Type", r->ctype);
+    if (r->gzipped) MHD_add_response_header(resp, "Content-Encoding", "gzip");
+    if (r->timing[0]) MHD_add_response_header(resp, "Server-Timing", r->timing);
+    if (r->retry_after > 0) {
+        char ra[16];
+        snprintf(ra, sizeof ra, "%d", r->retry_after);
+        MHD_add_response_header(resp, "Retry-After", ra);
+    }
+    if (allow != NULL) MHD_add_response_header(resp, "Allow", allow);
+    MHD_add_response_header(resp, "Cache-Control",
+                            cache_control ? cache_control : "no-store");
+    if (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE)
+        MHD_add_response_header(resp, "Vary", "Accept, Accept-Encoding");
+    return send_response(q, conn, (unsigned)r->status, resp, len);
+}
+
+static enum MHD_Result send_problem(req *q, struct MHD_Connection *conn,
+                                    api_code code, const char *allow,
+                                    int retry_after, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 6, 7)))
+#endif
+    ;
+
+static enum MHD_Result send_problem(req *q, struct MHD_Connection *conn,
+                                    api_code code, const char *allow,
+                                    int retry_after, const char *fmt, ...) {
+    api_problem p;
+    reply r;
+    memset(&p, 0, sizeof p);
+    memset(&r, 0, sizeof r);
+    p.code = code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    va_end(ap);
+    char inst[256];
+    printable(inst, sizeof inst, q->path, 200);
+    problem_reply(&r, &p, inst);
+    r.retry_after = retry_after;
+    return send_reply(q, conn, &r, allow, NULL);
+}
+
+static enum MHD_Result send_api_problem(req *q, struct MHD_Connection *conn,
+                                        const api_problem *p) {
+    reply r;
+    memset(&r, 0, sizeof r);
+    char inst[256];
+    printable(inst, sizeof inst, q->path, 200);
+    problem_reply(&r, p, inst);
+    return send_reply(q, conn, &r, NULL, NULL);
+}
+
+static enum MHD_Result send_text(req *q, struct MHD_Connection *conn,
+                                 unsigned status, const char *ctype,
+                                 char *body, size_t len, int gzip_ok) {
+    reply r;
+    memset(&r, 0, sizeof r);
+    r.status = (int)status;
+    r.ctype = ctype;
+    r.body = body;
+    r.len = len;
+    maybe_gzip(&r, gzip_ok);
+    return send_reply(q, conn, &r, NULL, NULL);
+}
+
+/* ---- handlers ------------------------------------------------------------ */
+
+static const char *header(struct MHD_Connection *conn, const char *name) {
+    return MHD_lookup_connection_value(conn, MHD_HEADER_KIND, name);
+}
+
+static int client_takes_gzip(struct MHD_Connection *conn) {
+    return srv_accepts_gzip(header(conn, "Accept-Encoding"));
+}
+
+static enum MHD_Result handle_asset(req *q, struct MHD_Connection *conn,
+                                    const char *path) {
+    srv_server *s = q->srv;
+    srv_asset a;
+    int rc = srv_assets_get(s->assets, path, &a);
+    if (rc == -1)
+        return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
+                            "no resource at this path");
+    if (rc != 0)
+        return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                            "the file could not be read");
+
+    const char *inm = header(conn, "If-None-Match");
+    struct MHD_Response *resp;
+    unsigned status = 200;
+    size_t len = 0;
+    int gz = 0;
+    if (inm != NULL && strstr(inm, a.etag) != NULL) {
+        status = 304;
+        resp = MHD_create_response_from_buffer(0, (void *)"",
+                                               MHD_RESPMEM_PERSISTENT);
+    } else if (client_takes_gzip(conn) && a.gz != NULL) {
+        len = a.gz_len;
+        gz = 1;
+        resp = MHD_create_response_from_buffer(len, (void *)a.gz,
+                                               MHD_RESPMEM_PERSISTENT);
+    } else if (client_takes_gzip(conn) && a.owned != NULL &&
+               a.len >= SRV_GZIP_MIN) {
+        char *z;
+        size_t zn;
+        if (srv_gzip(a.data, a.len, 6, &z, &zn) == 0 && zn < a.len) {
+            len = zn;
+            gz = 1;
+            resp = MHD_create_response_from_buffer(len, z,
+                                                   MHD_RESPMEM_MUST_FREE);
+            if (resp == NULL) free(z);
+        } else {
+            free(z); /* NULL when compression failed */
+            len = a.len;
+            resp = MHD_create_response_from_buffer(len, (void *)a.data,
+                                                   MHD_RESPMEM_MUST_COPY);
+        }
+    } else {
+        len = a.len;
+        resp = MHD_create_response_from_buffer(
+            len, (void *)a.data,
+            a.owned ? MHD_RESPMEM_MUST_COPY : MHD_RESPMEM_PERSISTENT);
+    }
+    if (resp != NULL) {
+        MHD_add_response_header(resp, "Content-Type", a.mime);
+        MHD_add_response_header(resp, "ETag", a.etag);
+        MHD_add_response_header(resp, "Cache-Control", "no-cache");
+        MHD_add_response_header(resp, "Vary", "Accept-Encoding");
+        if (gz) MHD_add_response_header(resp, "Content-Encoding", "gzip");
+    }
+    srv_asset_release(&a);
+    return send_response(q, conn, status, resp, len);
+}
+
+static enum MHD_Result handle_metrics(req *q, struct MHD_Connection *conn) {
+    srv_server *s = q->srv;
+    srv_gauges g;
+    memset(&g, 0, sizeof g);
+    srv_pool_stats(s->pool, &g.queue_depth, &g.running);
+    g.queue_capacity = (size_t)s->cfg.queue;
+    g.workers = (size_t)s->cfg.workers;
+    g.in_flight = srv_server_in_flight(s);
+    g.ready = !atomic_load(&s->draining);
+    api_buf b;
+    api_buf_init(&b);
+    srv_metrics_render(s->metrics, &g, &b);
+    if (b.oom) {
+        api_buf_clear(&b);
+        return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                            "out of memory");
+    }
+    size_t len;
+    char *text = api_buf_take(&b, &len);
+    return send_text(q, conn, 200, "text/plain; version=0.0.4; charset=utf-8",
+                     text, len, client_takes_gzip(conn));
+}
+
+static enum MHD_Result handle_json_status(req *q, struct MHD_Connection *conn,
+                                          const char *json) {
+    size_t n = strlen(json);
+    char *body = malloc(n + 1);
+    if (body == NULL) return MHD_NO;
+    memcpy(body, json, n + 1);
+    return send_text(q, conn, 200, "application/json", body, n, 0);
+}
+
+static enum MHD_Result handle_options(req *q, struct MHD_Connection *conn) {
+    struct MHD_Response *resp =
+        MHD_create_response_from_buffer(0, (void *)"", MHD_RESPMEM_PERSISTENT);
+    if (resp != NULL) {
+        MHD_add_response_header(resp, "Allow", q->allow);
+        MHD_add_response_header(resp, "Access-Control-Allow-Methods",
+                                q->allow);
+        MHD_add_response_header(resp, "Access-Control-Allow-Headers",
+                                "Content-Type, Accept, X-Request-Id");
+        MHD_add_response_header(resp, "Access-Control-Max-Age", "600");
+        MHD_add_response_header(resp, "Cache-Control", "no-store");
+    }
+    return send_response(q, conn, 204, resp, 0);
+}
+
+typedef struct opt_list {
+    size_t n;
+    int overflow;
+    const char *key[MAX_OPTIONS], *val[MAX_OPTIONS];
+} opt_list;
+
+static enum MHD_Result collect_option(void *cls, enum MHD_ValueKind kind,
+                                      const char *key, const char *value) {
+    (void)kind;
+    opt_list *l = cls;
+    if (l->n >= MAX_OPTIONS) {
+        l->overflow = 1;
+        return MHD_NO;
+    }
+    l->key[l->n] = key ? key : "";
+    l->val[l->n] = value ? value : "";
+    l->n++;
+    return MHD_YES;
+}
+
+static char *dup_str(const char *s) {
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d != NULL) memcpy(d, s, n);
+    return d;
+}
+
+static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
+    srv_server *s = q->srv;
+    opt_list opts;
+    api_problem p;
+    memset(&opts, 0, sizeof opts);
+    memset(&p, 0, sizeof p);
+
+    /* Refuse bad options and Accept now, while it is cheap. */
+    MHD_get_connection_values(conn, MHD_GET_ARGUMENT_KIND, collect_option,
+                              &opts);
+    if (opts.overflow)
+        return send_problem(q, conn, API_MALFORMED, NULL, 0,
+                            "more than %d query parameters", MAX_OPTIONS);
+    const char *accept = header(conn, "Accept");
+    api_request scratch;
+    api_request_init(&scratch);
+    api_code c = api_format_from_accept(&scratch, accept, &p);
+    for (size_t i = 0; c == API_OK && i < opts.n; i++)
+        c = api_request_option(&scratch, opts.key[i], opts.val[i], &p);
+    api_request_clear(&scratch);
+    if (c != API_OK) return send_api_problem(q, conn, &p);
+
+    compute_job *j = calloc(1, sizeof *j);
+    if (j == NULL)
+        return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                            "out of memory");
+    atomic_init(&j->refs, 2);
+    atomic_init(&j->answered, 0);
+    j->srv = s;
+    j->conn = conn;
+    j->compare = q->route == SRV_ROUTE_COMPARE;
+    snprintf(j->instance, sizeof j->instance, "%s",
+             j->compare ? "/compare" : "/voronoi");
+    j->kind = q->kind;
+    j->body = q->body;
+    j->len = q->len;
+    q->body = NULL;
+    q->len = q->cap = 0;
+    j->gzip_ok = client_takes_gzip(conn);
+    int oom = 0;
+    if (accept != NULL && (j->accept = dup_str(accept)) == NULL) oom = 1;
+    for (size_t i = 0; i < opts.n && !oom; i++) {
+        j->opt_key[i] = dup_str(opts.key[i]);
+        j->opt_val[i] = dup_str(opts.val[i]);
+        j->n_opts = i + 1;
+        if (j->opt_key[i] == NULL || j->opt_val[i] == NULL) oom = 1;
+    }
+    if (oom) {
+        atomic_store(&j->refs, 1);
+        job_unref(j);
+        return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                            "out of memory");
+    }
+    j->base.run = job_run;
+    j->base.done = job_done;
+    j->base.release = job_release;
+    j->base.deadline_ns = srv_now_ns() + (int64_t)(s->cfg.timeout * 1e9);
+
+    q->job = j;
+    q->phase = PH_WAIT;
+    MHD_suspend_connection(conn);
+    int rc = srv_pool_submit(s->pool, &j->base);
+    if (rc != SRV_POOL_OK) {
+        /* Not accepted: no callback will come; answer here. */
+        if (rc == SRV_POOL_FULL)
+            problemf(&j->r, j->instance, API_UNAVAILABLE,
+                     "all %d workers are busy and %d requests are waiting; "
+                     "retry after %d s",
+                     s->cfg.workers, s->cfg.queue, RETRY_AFTER_S);
+        else
+            problemf(&j->r, j->instance, API_UNAVAILABLE,
+                     "the service is shutting down; retry");
+        j->r.retry_after = RETRY_AFTER_S;
+        j->r.points = -1;
+        atomic_fetch_sub(&j->refs, 1); /* the pool's reference */
+        atomic_store_explicit(&j->answered, 1, memory_order_release);
+        MHD_resume_connection(conn);
+    }
+    return MHD_YES;
+}
+
+static enum MHD_Result finish_compute(req *q, struct MHD_Connection *conn) {
+    compute_job *j = q->job;
+    if (!atomic_load_explicit(&j->answered, memory_order_acquire))
+        return MHD_YES; /* not yet; called again after resume */
+    q->algorithm = j->r.algorithm;
+    q->points = j->r.points;
+    return send_reply(q, conn, &j->r, NULL, NULL);
+}
+
+static int has_asset(const char *path, void *ctx) {
+    return srv_assets_has(ctx, path);
+}
+
+static void make_request_id(req *q, struct MHD_Connection *conn) {
+    const char *given = header(conn, "X-Request-Id");
+    if (given != NULL) {
+        size_t n = strlen(given);
+        int ok = n > 0 && n < 72;
+        for (size_t i = 0; ok && i < n; i++) {
+            char c = given[i];
+            ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                 (c >= '0' && c <= '9') || c == '-' || c == '_' ||
+                 c == '.' || c == ':';
+        }
+        if (ok) {
+            memcpy(q->id, given, n + 1);
+            return;
+        }
+    }
+    /* splitmix64 of a per-process seed plus a counter: unique, unguessable
+     * enough for correlation, cheap. */
+    uint64_t z = q->srv->id_seed +
+                 atomic_fetch_add(&q->srv->next_id, 1) * 0x9e3779b97f4a7c15ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    snprintf(q->id, sizeof q->id, "%016llx", (unsigned long long)z);
+}
+
+/* Body announced? (Content-Length > 0 or a transfer coding.) */
+static int body_announced(req *q, struct MHD_Connection *conn) {
+    return (q->has_cl && q->content_length > 0) ||
+           header(conn, "Transfer-Encoding") != NULL;
+}
+
+/* First call: headers are in, no body yet. */
+static enum MHD_Result on_headers(req *q, struct MHD_Connection *conn) {
+    srv_server *s = q->srv;
+    const char *cl = header(conn, "Content-Length");
+    if (cl != NULL) {
+        char *end;
+        unsigned long long v = strtoull(cl, &end, 10);
+        q->has_cl = end != cl && *end == '\0';
+        q->content_length = q->has_cl ? v : 0;
+    }
+    if (q->match == SRV_MATCH_NOT_FOUND && body_announced(q, conn))
+        return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
+                            "no resource at this path");
+    if (q->match == SRV_MATCH_METHOD && body_announced(q, conn))
+        return send_problem(q, conn, API_METHOD, q->allow, 0,
+                            "%s is not allowed here; allowed: %s",
+                            q->method_name, q->allow);
+    if (q->has_cl && q->content_length > s->cfg.max_body)
+        return send_problem(q, conn, API_TOO_LARGE, NULL, 0,
+                            "the body of %llu bytes is larger than the "
+                            "limit of %zu bytes (--max-body)",
+                            (unsigned long long)q->content_length,
+                            s->cfg.max_body);
+    if (q->match == SRV_MATCH_OK && q->method == SRV_M_POST &&
+        (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE)) {
+        api_problem p;
+        memset(&p, 0, sizeof p);
+        if (api_input_from_content_type(header(conn, "Content-Type"),
+                                        &q->kind, &p) != API_OK)
+            return send_api_problem(q, conn, &p);
+        q->collect = 1;
+    }
+    return MHD_YES;
+}
+
+static enum MHD_Result on_data(req *q, const char *data, size_t n) {
+    size_t max = q->srv->cfg.max_body;
+    if (!q->collect || q->too_large) return MHD_YES; /* read and dropped */
+    if (n > max - q->len) {
+        q->too_large = 1;
+        free(q->body);
+        q->body = NULL;
+        q->len = q->cap = 0;
+        return MHD_YES;
+    }
+    if (q->len + n + 1 > q->cap) {
+        size_t cap;
+        if (q->has_cl && q->content_length + 1 >= q->len + n + 1)
+            cap = (size_t)q->content_length + 1;
+        else {
+            cap = q->cap ? q->cap : 65536;
+            while (cap < q->len + n + 1) cap *= 2;
+            if (cap > max + 1) cap = max + 1;
+        }
+        char *b = realloc(q->body, cap);
+        if (b == NULL) return MHD_NO; /* cannot hold it: drop the connection */
+        q->body = b;
+        q->cap = cap;
+    }
+    memcpy(q->body + q->len, data, n);
+    q->len += n;
+    q->body[q->len] = '\0';
+    return MHD_YES;
+}
+
+/* Last call: the whole request is in. */
+static enum MHD_Result on_complete(req *q, struct MHD_Connection *conn) {
+    srv_server *s = q->srv;
+    if (q->too_large)
+        return send_problem(q, conn, API_TOO_LARGE, NULL, 0,
+                            "the body is larger than the limit of %zu bytes "
+                            "(--max-body)",
+                            s->cfg.max_body);
+    if (q->match == SRV_MATCH_NOT_FOUND)
+        return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
+                            "no resource at this path");
+    if (q->match == SRV_MATCH_METHOD)
+        return send_problem(q, conn, API_METHOD, q->allow, 0,
+                            "%s is not allowed here; allowed: %s",
+                            q->method_name, q->allow);
+    if (q->method == SRV_M_OPTIONS) return handle_options(q, conn);
+
+    switch (q->route) {
+    case SRV_ROUTE_VORONOI:
+    case SRV_ROUTE_COMPARE:
+        return start_compute(q, conn);
+    case SRV_ROUTE_PAGE:
+        return handle_asset(q, conn, "/index.html");
+    case SRV_ROUTE_OPENAPI:
+        return handle_asset(q, conn, "/openapi.yaml");
+    case SRV_ROUTE_ASSET:
+        return handle_asset(q, conn, q->path);
+    case SRV_ROUTE_HEALTHZ:
+        return handle_json_status(q, conn, "{\"status\":\"ok\"}");
+    case SRV_ROUTE_READYZ:
+        if (atomic_load(&s->draining))
+            return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                                "shutting down: not taking new work");
+        return handle_json_status(q, conn, "{\"status\":\"ready\"}");
+    case SRV_ROUTE_METRICS:
+        return handle_metrics(q, conn);
+    case SRV_ROUTE_OTHER:
+    case SRV_ROUTE_COUNT:
+        break;
+    }
+    return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
+                        "no resource at this path");
+}
+
+static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
+                                  const char *url, const char *method,
+                                  const char *version,
+                                  const char *upload_data,
+                                  size_t *upload_data_size, void **con_cls) {
+    srv_server *s = cls;
+    req *q = *con_cls;
+    (void)version;
+
+    if (q == NULL) {
+        q = calloc(1, sizeof *q);
+        if (q == NULL) return MHD_NO;
+        *con_cls = q;
+        q->srv = s;
+        q->t0_ns = srv_now_ns();
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        q->unix_t0 = (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
+        q->points = -1;
+        printable(q->method_name, sizeof q->method_name, method, 8);
+        snprintf(q->path, sizeof q->path, "%s", url ? url : "");
+        q->method = srv_method_bit(method);
+        make_request_id(q, conn);
+        atomic_fetch_add(&s->in_flight, 1);
+        q->match = srv_route_match(method, q->path, has_asset, s->assets,
+                                   &q->route, q->allow, sizeof q->allow);
+        return on_headers(q, conn);
+    }
+    if (*upload_data_size > 0) {
+        size_t n = *upload_data_size;
+        *upload_data_size = 0;
+        return on_data(q, upload_data, n);
+    }
+    if (q->phase == PH_WAIT) return finish_compute(q, conn);
+    if (q->phase == PH_DONE) return MHD_YES;
+    return on_complete(q, conn);
+}
+
+static const char *termination_note(enum MHD_RequestTerminationCode toe) {
+    switch (toe) {
+    case MHD_REQUEST_TERMINATED_COMPLETED_OK: return NULL;
+    case MHD_REQUEST_TERMINATED_WITH_ERROR: return "error";
+    case MHD_REQUEST_TERMINATED_TIMEOUT_REACHED: return "connection-timeout";
+    case MHD_REQUEST_TERMINATED_DAEMON_SHUTDOWN: return "shutdown";
+    case MHD_REQUEST_TERMINATED_READ_ERROR: return "read-error";
+    case MHD_REQUEST_TERMINATED_CLIENT_ABORT: return "client-gone";
+    }
+    return "unknown";
+}
+
+static void on_completed(void *cls, struct MHD_Connection *conn,
+                         void **con_cls,
+                         enum MHD_RequestTerminationCode toe) {
+    srv_server *s = cls;
+    req *q = *con_cls;
+    (void)conn;
+    if (q == NULL) return;
+    *con_cls = NULL;
+    double ms = ms_since(q->t0_ns);
+    if (q->status > 0)
+        srv_metrics_request(s->metrics, q->route, q->status, ms / 1e3);
+    else
+        srv_metrics_aborted(s->metrics, q->route);
+    srv_access e = {
+        .unix_time = q->unix_t0,
+        .method = q->method_name,
+        .path = q->path,
+        .status = q->status,
+        .bytes = q->bytes,
+        .ms = ms,
+        .algorithm = q->algorithm,
+        .points = q->points,
+        .request_id = q->id,
+        .note = termination_note(toe),
+    };
+    srv_access_write(s->log_fd, &e);
+    if (q->job != NULL) job_unref(q->job);
+    free(q->body);
+    free(q);
+    atomic_fetch_sub(&s->in_flight, 1);
+}
+
+static void mhd_log(void *cls, const char *fmt, va_list ap) {
+    srv_server *s = cls;
+    char msg[512];
+    int n = vsnprintf(msg, sizeof msg, fmt, ap);
+    if (n < 0) return;
+    char line[600];
+    /* libmicrohttpd's messages end with a newline already. */
+    int k = snprintf(line, sizeof line, "voronoid: http: %s", msg);
+    if (k > 0) {
+        size_t len = (size_t)k < sizeof line ? (size_t)k : sizeof line - 1;
+        if (len > 0 && line[len - 1] != '\n' && len + 1 < sizeof line)
+            line[len++] = '\n';
+        ssize_t w = write(s->log_fd, line, len);
+        (void)w;
+    }
+}
+
+/* ---- life cycle ---------------------------------------------------------- */
+
+srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
+                           size_t err_size) {
+    srv_server *s = calloc(1, sizeof *s);
+    if (s == NULL) {
+        snprintf(err, err_size, "out of memory");
+        return NULL;
+    }
+    s->cfg = *cfg;
+    s->log_fd = log_fd;
+    s->quiesced_fd = MHD_INVALID_SOCKET;
+    atomic_init(&s->draining, 0);
+    atomic_init(&s->in_flight, 0);
+    atomic_init(&s->next_id, 1);
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    s->id_seed = ((uint64_t)ts.tv_sec << 32) ^ (uint64_t)ts.tv_nsec ^
+                 ((uint64_t)getpid() << 16);
+
+    s->metrics = srv_metrics_new();
+    s->assets = srv_assets_new(cfg->web_dir);
+    s->pool = srv_pool_new(cfg->workers, cfg->queue);
+    if (s->metrics == NULL || s->assets == NULL || s->pool == NULL) {
+        snprintf(err, err_size, "cannot allocate the service's state or "
+                 "start its %d worker threads", cfg->workers);
+        goto fail;
+    }
+
+    struct sockaddr_storage addr;
+    memset(&addr, 0, sizeof addr);
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_POLL |
+                     MHD_ALLOW_SUSPEND_RESUME | MHD_USE_ITC |
+                     MHD_USE_ERROR_LOG;
+    struct sockaddr_in *a4 = (struct sockaddr_in *)&addr;
+    struct sockaddr_in6 *a6 = (struct sockaddr_in6 *)&addr;
+    if (inet_pton(AF_INET, cfg->bind, &a4->sin_addr) == 1) {
+        a4->sin_family = AF_INET;
+        a4->sin_port = htons((uint16_t)cfg->port);
+    } else if (inet_pton(AF_INET6, cfg->bind, &a6->sin6_addr) == 1) {
+        a6->sin6_family = AF_INET6;
+        a6->sin6_port = htons((uint16_t)cfg->port);
+        flags |= MHD_USE_IPv6;
+    } else {
+        snprintf(err, err_size, "cannot use bind address '%s'", cfg->bind);
+        goto fail;
+    }
+
+    s->daemon = MHD_start_daemon(
+        flags, (uint16_t)cfg->port, NULL, NULL, on_request, s,
+        MHD_OPTION_EXTERNAL_LOGGER, mhd_log, s,
+        MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
+        MHD_OPTION_THREAD_POOL_SIZE, (unsigned)cfg->http_threads,
+        MHD_OPTION_CONNECTION_TIMEOUT, cfg->connection_timeout,
+        MHD_OPTION_CONNECTION_LIMIT, cfg->max_connections,
+        MHD_OPTION_NOTIFY_COMPLETED, on_completed, s,
+        MHD_OPTION_LISTENING_ADDRESS_REUSE, (unsigned)1,
+        MHD_OPTION_END);
+    if (s->daemon == NULL) {
+        snprintf(err, err_size, "cannot listen on %s port %d (address in "
+                 "use, or not an address of this machine?)", cfg->bind,
+                 cfg->port);
+        goto fail;
+    }
+    const union MHD_DaemonInfo *info =
+        MHD_get_daemon_info(s->daemon, MHD_DAEMON_INFO_BIND_PORT);
+    s->port = info != NULL ? (int)info->port : cfg->port;
+    return s;
+
+fail:
+    srv_pool_free(s->pool, 0);
+    srv_assets_free(s->assets);
+    srv_metrics_free(s->metrics);
+    free(s);
+    return NULL;
+}
+
+int srv_server_port(const srv_server *s) { return s->port; }
+
+void srv_server_drain(srv_server *s) {
+    if (atomic_exchange(&s->draining, 1)) return;
+    s->quiesced_fd = MHD_quiesce_daemon(s->daemon);
+}
+
+size_t srv_server_in_flight(const srv_server *s) {
+    long n = atomic_load(&((srv_server *)s)->in_flight);
+    return n > 0 ? (size_t)n : 0;
+}
+
+int srv_server_wait_idle(const srv_server *s, double seconds) {
+    int64_t until = srv_now_ns() + (int64_t)(seconds * 1e9);
+    for (;;) {
+        if (srv_server_in_flight(s) == 0) return 0;
+        if (srv_now_ns() >= until) return -1;
+        struct timespec nap = {0, 5 * 1000 * 1000};
+        nanosleep(&nap, NULL);
+    }
+}
+
+void srv_server_cancel(srv_server *s) { srv_pool_cancel_all(s->pool); }
+
+int srv_server_free(srv_server *s) {
+    if (s == NULL) return 0;
+    /* No request is suspended any more: every job was answered (done()
+     * resumes before the pool lets go of it), so the daemon can stop. */
+    srv_pool_cancel_all(s->pool);
+    MHD_stop_daemon(s->daemon);
+    if (s->quiesced_fd != MHD_INVALID_SOCKET) close(s->quiesced_fd);
+    if (srv_pool_free(s->pool, 0.5) != 0) return -1;
+    srv_assets_free(s->assets);
+    srv_metrics_free(s->metrics);
+    free(s);
+    return 0;
+}

@@ -1,0 +1,53 @@
+/* server.h -- the voronoid HTTP service: a libmicrohttpd daemon, the
+ * compute pool behind it, metrics and the access log.
+ *
+ * Life cycle (main.c):
+ *
+ *     srv_server_new  -- listening, serving
+ *     srv_server_drain        -- SIGTERM: stop accepting, /readyz 503
+ *     srv_server_wait_idle    -- until every accepted request is answered
+ *     srv_server_cancel       -- grace over: answer what is left with 503
+ *     srv_server_free         -- stop the daemon and the pool
+ *
+ * Threads: libmicrohttpd's pool (config http_threads) accepts connections,
+ * reads requests and writes answers; compute requests are handed to the
+ * srv_pool (config workers) while their connection is suspended; the main
+ * thread only waits for signals. No thread blocks on a client.
+ */
+#ifndef VOR_SRV_SERVER_H
+#define VOR_SRV_SERVER_H
+
+#include <stddef.h>
+
+#include "config.h"
+
+typedef struct srv_server srv_server;
+
+/* Starts the service described by cfg (copied). On failure returns NULL
+ * with a one-line reason in err. log_fd receives the access log. */
+srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
+                           size_t err_size);
+
+/* The port actually bound (useful when cfg->port was 0). */
+int srv_server_port(const srv_server *s);
+
+/* Stops accepting new connections and turns /readyz to 503. Requests on
+ * connections already open are still served (with Connection: close). */
+void srv_server_drain(srv_server *s);
+
+/* Requests received and not yet answered. */
+size_t srv_server_in_flight(const srv_server *s);
+
+/* Waits until no request is in flight, at most `seconds`. 0 when idle. */
+int srv_server_wait_idle(const srv_server *s, double seconds);
+
+/* Answers every request still queued or computing with 503 (the result of
+ * a computation that is still running will be discarded). */
+void srv_server_cancel(srv_server *s);
+
+/* Stops the daemon and the compute pool and frees everything. Returns 0;
+ * -1 when a computation was still running and could not be waited for:
+ * memory is then left to the process exit. */
+int srv_server_free(srv_server *s);
+
+#endif /* VOR_SRV_SERVER_H */
