@@ -486,6 +486,69 @@ static void test_reuse(void **state) {
     api_request_clear(&r);
 }
 
+/* Random damage to valid bodies (bytes replaced, inserted, deleted, cut)
+ * must give an answer, never a crash or a read out of bounds (ASan), and
+ * only the statuses parsing can give. Each mutated body is an exactly
+ * sized heap copy. */
+static void test_mutations(void **state) {
+    (void)state;
+    static const char *const seeds[] = {
+        "{\"points\": [[1.5, -2e3], [0, 0], [3, 4]], \"algorithm\": \"flip\", "
+        "\"bounds\": [-1, -1, 5, 5], \"include\": [\"sites\", \"clipped\"], "
+        "\"format\": \"svg\"}",
+        "[[0,0],[1,1],[2,0.5]]",
+        "{\"generate\": {\"distribution\": \"grid\", \"n\": 9, \"seed\": 4}}",
+        "# x,y\n1,2\n3 4\r\n5;6\n",
+    };
+    static const char alphabet[] = "[]{},:\"\\0123456789.eE+-nNaItrufl \n\t#x";
+    const uint64_t seed = 0x6d757401u;
+    printf("# seed %#llx, 40000 mutated bodies\n", (unsigned long long)seed);
+    uint64_t s = seed;
+    for (int iter = 0; iter < 40000; iter++) {
+        s = s * 6364136223846793005u + 1442695040888963407u;
+        const char *base = seeds[(s >> 33) % 4];
+        size_t len = strlen(base);
+        char buf[512];
+        memcpy(buf, base, len);
+        int edits = 1 + (int)((s >> 40) % 4);
+        for (int e = 0; e < edits; e++) {
+            s = s * 6364136223846793005u + 1442695040888963407u;
+            size_t at = len ? (size_t)(s >> 20) % len : 0;
+            char c = alphabet[(s >> 50) % (sizeof alphabet - 1)];
+            switch ((s >> 60) % 4) {
+            case 0: if (len) buf[at] = c; break;
+            case 1:
+                if (len < sizeof buf - 1) {
+                    memmove(buf + at + 1, buf + at, len - at);
+                    buf[at] = c;
+                    len++;
+                }
+                break;
+            case 2:
+                if (len) {
+                    memmove(buf + at, buf + at + 1, len - at - 1);
+                    len--;
+                }
+                break;
+            default: len = at; break;
+            }
+        }
+        char *body = malloc(len ? len : 1);
+        memcpy(body, buf, len);
+        for (int k = API_IN_JSON; k <= API_IN_AUTO; k++) {
+            outcome o;
+            api_code c = parse_kind(&o, (api_input)k, body, len, 100);
+            if (c != API_OK && c != API_MALFORMED && c != API_INVALID &&
+                c != API_TOO_LARGE) {
+                fail_msg("mutated body gave status %d: %.*s", (int)c, (int)len, body);
+            }
+            if (c != API_OK && o.p.detail[0] == 0) fail_msg("refusal without a detail");
+            api_request_clear(&o.r);
+        }
+        free(body);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_json_accepted),
@@ -498,6 +561,7 @@ int main(void) {
         cmocka_unit_test(test_text_refusals),
         cmocka_unit_test(test_binary),
         cmocka_unit_test(test_reuse),
+        cmocka_unit_test(test_mutations),
     };
     return cmocka_run_group_tests_name("api/parse", tests, NULL, NULL);
 }
