@@ -193,7 +193,60 @@ test: deps deps-test
 
 # ---- bench ---------------------------------------------------------------
 bench: deps deps-bench all
-	@if [ -x bench/run ]; then bench/run; else echo "bench/run: none"; fi
+	@if [ -x bench/run ]; then B=$(B) bench/run; else echo "bench/run: none"; fi
+
+bench-bins: $(BENCH_BIN)/bench_algo $(BENCH_BIN)/mhd_baseline
+bench-peers: $(BENCH_PEERS)
+
+$(BENCH_BIN)/bench_algo: bench/bench_algo.c bench/bench_util.h \
+                         $(B)/libvortest.a $(B)/libvorapi.a $(B)/libvor.a
+	@mkdir -p $(@D)
+	$(CC) $(BASE_CFLAGS) $(BENCH_OPT) $< $(B)/libvortest.a $(B)/libvorapi.a \
+	    $(B)/libvor.a -o $@ $(API_LIBS) $(CORE_LIBS)
+$(BENCH_BIN)/mhd_baseline: bench/mhd_baseline.c
+	@mkdir -p $(@D)
+	$(CC) $(BASE_CFLAGS) $(BENCH_OPT) $(call pc,libmicrohttpd) $< -o $@ \
+	    $(call pl,libmicrohttpd)
+$(BENCH_BIN)/peer_cgal: bench/peer_cgal.cc bench/bench_util.h
+	@mkdir -p $(@D)
+	$(CXX) -std=c++17 $(BENCH_OPT) -DCGAL_NDEBUG -Wall -Wextra $< -o $@ \
+	    -lgmp -lmpfr
+$(BENCH_BIN)/peer_boost: bench/peer_boost.cc bench/bench_util.h
+	@mkdir -p $(@D)
+	$(CXX) -std=c++17 $(BENCH_OPT) -Wall -Wextra $< -o $@
+$(BENCH_BIN)/peer_qhull: bench/peer_qhull.c bench/bench_util.h
+	@mkdir -p $(@D)
+	$(CC) $(BASE_CFLAGS) $(BENCH_OPT) $< -o $@ -lqhull_r -lm
+
+# ---- fuzzing (libFuzzer) ------------------------------------------------
+# make fuzz: each tests/fuzz/fuzz_*.c target runs FUZZ_SECONDS under ASan and
+# UBSan with clang's libFuzzer; a failing input is saved in $(B)/fuzz/ and
+# fails the target. make test runs a short round (FUZZ_SECONDS=20).
+FUZZ_SECONDS ?= 60
+FUZZ_CC := clang
+FUZZ_FLAGS := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
+              -ffp-contract=off
+FUZZ_TARGETS := $(patsubst tests/fuzz/%.c,$(B)/fuzz/%,$(wildcard tests/fuzz/fuzz_*.c))
+
+$(B)/fuzz/numconv.o: $(API_CXX)
+	@mkdir -p $(@D)
+	clang++ -std=c++17 $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link \
+	    $(DRAGONBOX_CFLAGS) -c $(API_CXX) -o $@
+$(B)/fuzz/%: tests/fuzz/%.c $(CORE_SRC) $(API_SRC) $(B)/fuzz/numconv.o | deps
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE \
+	    $(FUZZ_FLAGS) -fsanitize=fuzzer $(API_CFLAGS) $< $(CORE_SRC) \
+	    $(API_SRC) $(B)/fuzz/numconv.o -o $@ $(API_LIBS) $(CORE_LIBS)
+
+fuzz: $(FUZZ_TARGETS)
+	@fail=0; for t in $(FUZZ_TARGETS); do \
+	    echo "== $$t ($(FUZZ_SECONDS) s)"; \
+	    mkdir -p $$t.corpus; \
+	    ASAN_OPTIONS=detect_leaks=1 $$t -max_total_time=$(FUZZ_SECONDS) \
+	        -seed=1 -print_final_stats=1 -artifact_prefix=$$t- $$t.corpus \
+	        2>$$t.log || { fail=1; tail -30 $$t.log; }; \
+	    grep -E '^stat::number_of_executed_units' $$t.log; \
+	done; exit $$fail
 
 # ---- dependencies --------------------------------------------------------
 # dpkg tells what is installed; apt-get installs the rest when we are root.
