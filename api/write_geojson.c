@@ -42,9 +42,13 @@ int api__write_geojson(const api_request *r, const api_result *res,
         if (hi - lo < 3) {
             API__PUTS(out, "null");
         } else {
+            /* vor_clip closes its rings; close one that is not. */
+            const double *first = c->poly_xy + 2 * (size_t)lo;
+            const double *last = c->poly_xy + 2 * (size_t)(hi - 1);
+            uint32_t end = first[0] == last[0] && first[1] == last[1] ? hi : hi + 1;
             API__PUTS(out, "{\"type\":\"Polygon\",\"coordinates\":[[");
-            for (uint32_t k = lo; k <= hi; k++) {
-                const double *xy = c->poly_xy + 2 * (size_t)(k < hi ? k : lo);
+            for (uint32_t k = lo; k < end; k++) {
+                const double *xy = k < hi ? c->poly_xy + 2 * (size_t)k : first;
                 if (api__reserve(out, 2 * API_NUM_MAXLEN + 8)) return -1;
                 if (k > lo) api__putc(out, ',');
                 api__putc(out, '[');

@@ -14,7 +14,7 @@
  *    "triangles": [[i, j, k], ...],
  *    "clipped": {"bounds": [...], "bounds_given": true,
  *                "edges": [[x0, y0, x1, y1] or null, ...],
- *                "cells": [[[x, y], ...], ...]},
+ *                "cells": [[[x, y], ...], ...]},    closed rings
  *    "timings": {...}}
  *
  * Every site number is an INPUT index (the first occurrence of a duplicated

@@ -37,9 +37,12 @@ static vor_diagram tri_diagram = {3,           1,          tri_vxy,        tri_v
                                   tri_bounded};
 static double tri_seg[] = {1, 1, 1, -1, 1, 1, -1, 1, 1, 1, 3, 3};
 static uint8_t tri_seg_in[] = {1, 1, 1};
-static uint32_t tri_poly_start[] = {0, 4, 8, 12};
-static double tri_poly_xy[] = {-1, -1, 1, -1, 1, 1, -1, 1, 1, -1, 3, -1,
-                               3,  3,  1, 1,  -1, 1, 1, 1, 3,  3, -1, 3};
+/* Closed rings, as vor_clip gives them; the third is left open to check
+ * that GeoJSON closes it. */
+static uint32_t tri_poly_start[] = {0, 5, 10, 14};
+static double tri_poly_xy[] = {-1, -1, 1, -1, 1, 1, -1, 1, -1, -1,
+                               1,  -1, 3, -1, 3, 3, 1,  1, 1,  -1,
+                               -1, 1,  1, 1,  3, 3, -1, 3};
 static vor_clipped tri_clipped = {{-1, -1, 3, 3}, tri_seg, tri_seg_in, tri_poly_start,
                                   tri_poly_xy};
 static uint32_t tri_triangles[] = {0, 1, 2};
@@ -79,8 +82,9 @@ static vor_diagram line_diagram = {2, 0, NULL, NULL, 1, line_esites, line_eends,
                                    line_cell_edges, line_bounded};
 static double line_seg[] = {0, 0, 0, 0};
 static uint8_t line_seg_in[] = {0};
-static uint32_t line_poly_start[] = {0, 4, 4};
-static double line_poly_xy[] = {0.9e308, -1, 1.1e308, -1, 1.1e308, 1, 0.9e308, 1};
+static uint32_t line_poly_start[] = {0, 5, 5};
+static double line_poly_xy[] = {0.9e308, -1, 1.1e308, -1, 1.1e308, 1, 0.9e308, 1,
+                                0.9e308, -1};
 static vor_clipped line_clipped = {{0.9e308, -1, 1.1e308, 1}, line_seg, line_seg_in,
                                    line_poly_start, line_poly_xy};
 
@@ -173,7 +177,7 @@ static void test_json_line_and_overflow(void **state) {
     assert_non_null(strstr(out.data, "\"ends\":[null,null],\"ray\":[0,1],"
                                      "\"point\":[1.25e308,0]"));
     assert_non_null(strstr(out.data, "\"cells\":[[[9e307,-1],[1.1e308,-1],"
-                                     "[1.1e308,1],[9e307,1]],[]]"));
+                                     "[1.1e308,1],[9e307,1],[9e307,-1]],[]]"));
     api_buf_clear(&out);
 
     /* A vertex whose coordinates overflowed is written as null. */
@@ -199,6 +203,8 @@ static void test_geojson(void **state) {
     assert_non_null(strstr(out.data, "\"bounds_given\":false,\"bounds_note\":"));
     assert_non_null(strstr(out.data, "{\"type\":\"Polygon\",\"coordinates\":"
                                      "[[[-1,-1],[1,-1],[1,1],[-1,1],[-1,-1]]]}"));
+    assert_non_null(strstr(out.data, "{\"type\":\"Polygon\",\"coordinates\":"
+                                     "[[[-1,1],[1,1],[3,3],[-1,3],[-1,1]]]}"));
     api_buf_clear(&out);
     res = line_result();
     r.has_bounds = 1;
