@@ -1,15 +1,332 @@
-/* flip.c -- Lawson flipping Delaunay triangulation
- * (placeholder until the real insertion lands). */
-#include "internal.h"
+/* flip.c -- Delaunay triangulation by Lawson flipping.
+ *
+ * Sites are inserted in spatial order (vor__insertion_order) into a
+ * triangulation closed by ghost triangles (mesh.h). For each site p the walk
+ * of vor__mesh_locate finds where it goes, then:
+ *   - strictly inside a triangle: split it in three (1 -> 3);
+ *   - on an edge (orient2d == 0): split the two triangles of that edge in
+ *     four (2 -> 4); on a hull edge one of the two is a ghost, which splits
+ *     into two ghosts the same way;
+ *   - outside the hull: every hull edge p sees strictly becomes a triangle
+ *     with p (its ghost is reused, the ghost vertex replaced by p), and two
+ *     new ghosts close the hull from its ends to p. A hull edge that p sees
+ *     only edge-on stays, so a site collinear with a hull edge becomes a
+ *     collinear hull vertex instead of the apex of a flat triangle.
+ * Then the edges opposite p are made Delaunay with an explicit stack: an
+ * edge a->b of triangle (a, b, p) is flipped when the vertex d across it is
+ * strictly inside the circle through a, b, p (exact vor_incircle); the two
+ * new edges opposite p are pushed. Hull edges and ghosts are never flipped:
+ * p is inside the hull by then, outside every ghost's half-plane.
+ *
+ * Invariant of the stack: each entry is the half-edge opposite p in a
+ * distinct triangle around p, with p at prev(entry). A flip rewrites only
+ * the triangle of the popped entry and one triangle without p, and leaves
+ * the two new edges opposite p at the same two half-edge ids, so stacked
+ * ids stay valid.
+ *
+ * Cost: expected O(1) walk steps and flips per site in spatial order,
+ * O(n log n) with the sort; memory: the mesh (48 bytes per site), the order
+ * (4 bytes per site) and one small stack.
+ */
+#include <assert.h>
+#include <stdlib.h>
+
+#include "mesh.h"
+
+#define XY(v) (xy + 2 * (size_t)(v))
+
+typedef struct flipper {
+    vor__mesh *m;
+    const double *xy;
+    vor__walk w;
+    uint32_t *stack; /* edges to legalise */
+    size_t n, cap;
+} flipper;
+
+/* Reserves room for k more stack entries. */
+static int reserve(flipper *st, size_t k) {
+    if (st->n + k <= st->cap)
+        return 0;
+    size_t cap = st->cap ? st->cap : 64;
+    while (cap < st->n + k)
+        cap *= 2;
+    uint32_t *v = realloc(st->stack, cap * sizeof *v);
+    if (!v)
+        return -1;
+    st->stack = v;
+    st->cap = cap;
+    return 0;
+}
+
+static inline void link(int32_t *adj, uint32_t e, uint32_t f) {
+    adj[e] = (int32_t)f;
+    adj[f] = (int32_t)e;
+}
+
+/* 1 -> 3: p strictly inside triangle t = (a, b, c).
+ *
+ *              c                 t  = (a, b, p)  keeps edge a->b
+ *            / | \               n1 = (b, c, p)  takes edge b->c
+ *           / n2  \              n2 = (c, a, p)  takes edge c->a
+ *          /  _p_  \
+ *         / _/   \_ \  n1        inner twins: b->p / p->b (t, n1),
+ *        /_/   t   \_\           c->p / p->c (n1, n2), a->p / p->a (n2, t)
+ *       a ----------- b
+ */
+static void split3(flipper *st, uint32_t t, uint32_t p) {
+    vor__mesh *m = st->m;
+    uint32_t *tri = m->tri;
+    int32_t *adj = m->adj;
+    uint32_t n1 = (uint32_t)m->n_tri, n2 = n1 + 1;
+    m->n_tri += 2;
+    uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+    int32_t bc = adj[3 * t + 1], ca = adj[3 * t + 2];
+    tri[3 * t + 2] = p;
+    tri[3 * n1] = b;
+    tri[3 * n1 + 1] = c;
+    tri[3 * n1 + 2] = p;
+    tri[3 * n2] = c;
+    tri[3 * n2 + 1] = a;
+    tri[3 * n2 + 2] = p;
+    link(adj, 3 * n1, (uint32_t)bc);
+    link(adj, 3 * n2, (uint32_t)ca);
+    link(adj, 3 * t + 1, 3 * n1 + 2);
+    link(adj, 3 * n1 + 1, 3 * n2 + 2);
+    link(adj, 3 * n2 + 1, 3 * t + 2);
+    st->stack[st->n++] = 3 * t;
+    st->stack[st->n++] = 3 * n1;
+    st->stack[st->n++] = 3 * n2;
+    st->w.tri = t;
+}
+
+/* 2 -> 4: p on edge e = a->b of triangle t = (a, b, c); across it is
+ * f = b->a of triangle u = (b, a, d), d possibly the ghost vertex.
+ *
+ *              c                      t  = (p, b, c)  at e, next e, prev e
+ *            / | \                    t2 = (a, p, c)  new
+ *           / t2|t \                  u  = (p, a, d)  at f, next f, prev f
+ *          a----p----b                u2 = (b, p, d)  new
+ *           \ u | u2/
+ *            \  |  /                  edges opposite p: b->c (next e),
+ *              d                      c->a (3t2+2), a->d (next f), d->b
+ *                                     (3u2+2); those with the ghost are
+ *                                     skipped by the legaliser.
+ */
+static void split4(flipper *st, uint32_t e, uint32_t p) {
+    vor__mesh *m = st->m;
+    uint32_t *tri = m->tri;
+    int32_t *adj = m->adj;
+    uint32_t f = (uint32_t)adj[e];
+    uint32_t t2 = (uint32_t)m->n_tri, u2 = t2 + 1;
+    m->n_tri += 2;
+    uint32_t ne = vor__next(e), pe = vor__prev(e);
+    uint32_t nf = vor__next(f), pf = vor__prev(f);
+    uint32_t a = tri[e], b = tri[ne], c = tri[pe], d = tri[pf];
+    int32_t ca = adj[pe], db = adj[pf];
+    tri[e] = p;
+    tri[f] = p;
+    tri[3 * t2] = a;
+    tri[3 * t2 + 1] = p;
+    tri[3 * t2 + 2] = c;
+    tri[3 * u2] = b;
+    tri[3 * u2 + 1] = p;
+    tri[3 * u2 + 2] = d;
+    link(adj, 3 * t2 + 2, (uint32_t)ca);
+    link(adj, 3 * u2 + 2, (uint32_t)db);
+    link(adj, e, 3 * u2);
+    link(adj, pe, 3 * t2 + 1);
+    link(adj, f, 3 * t2);
+    link(adj, pf, 3 * u2 + 1);
+    (void)b;
+    st->stack[st->n++] = ne;
+    st->stack[st->n++] = 3 * t2 + 2;
+    st->stack[st->n++] = nf;
+    st->stack[st->n++] = 3 * u2 + 2;
+    if (d == VOR__GHOST)
+        st->w.ghost = u2;
+    st->w.tri = e / 3;
+}
+
+/* p strictly outside the hull edge of ghost g.
+ *
+ *        p                 the hull edges v0->v1 ... v(k-1)->vk that p
+ *      / | \               sees strictly: their ghosts become (vi, vi+1, p)
+ *     /  |  \              (the ghost vertex replaced by p, all twins
+ *   v0---v1--v2            unchanged); new ghosts G0 = (v0, p, GHOST) and
+ *  (interior below)        G1 = (p, vk, GHOST) sit between the fan and the
+ *                          ghosts of the edges ending at v0 and leaving vk.
+ *
+ * Around the ghost vertex the ghosts form a ring: for the hull edge e of a
+ * ghost (ghost vertex at prev(e)), the previous ghost's hull edge is
+ * prev(adj[prev(e)]) and the next one's next(adj[next(e)]).
+ */
+static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
+    vor__mesh *m = st->m;
+    uint32_t *tri = m->tri;
+    int32_t *adj = m->adj;
+    const double *xy = st->xy;
+    const double *pp = XY(p);
+    uint32_t e = 3 * g;
+    while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
+        e++;
+    uint32_t first = e, last = e;
+    size_t k = 1;
+    for (;;) {
+        uint32_t pe = vor__prev((uint32_t)adj[vor__prev(first)]);
+        if (vor__orient2d_fast(XY(tri[pe]), XY(tri[vor__next(pe)]), pp) <= 0)
+            break;
+        first = pe;
+        k++;
+    }
+    for (;;) {
+        uint32_t ne = vor__next((uint32_t)adj[vor__next(last)]);
+        if (vor__orient2d_fast(XY(tri[ne]), XY(tri[vor__next(ne)]), pp) <= 0)
+            break;
+        last = ne;
+        k++;
+    }
+    if (reserve(st, k))
+        return VOR_ENOMEM;
+    uint32_t v0 = tri[first], vk = tri[vor__next(last)];
+    uint32_t in0 = vor__prev(first), outk = vor__next(last);
+    int32_t x0 = adj[in0], xk = adj[outk];
+    for (e = first;; e = vor__next((uint32_t)adj[vor__next(e)])) {
+        tri[vor__prev(e)] = p;
+        st->stack[st->n++] = e;
+        if (e == last)
+            break;
+    }
+    uint32_t g0 = (uint32_t)m->n_tri, g1 = g0 + 1;
+    m->n_tri += 2;
+    tri[3 * g0] = v0;
+    tri[3 * g0 + 1] = p;
+    tri[3 * g0 + 2] = VOR__GHOST;
+    tri[3 * g1] = p;
+    tri[3 * g1 + 1] = vk;
+    tri[3 * g1 + 2] = VOR__GHOST;
+    link(adj, 3 * g0, in0);
+    link(adj, 3 * g0 + 1, 3 * g1 + 2);
+    link(adj, 3 * g0 + 2, (uint32_t)x0);
+    link(adj, 3 * g1, outk);
+    link(adj, 3 * g1 + 1, (uint32_t)xk);
+    st->w.ghost = g0;
+    st->w.tri = first / 3;
+    return VOR_OK;
+}
+
+/* Flips edge e = a->b of T = (a, b, p) (p at prev(e)) with f = b->a of
+ * U = (b, a, d):
+ *
+ *          p                     p          T' = (a, d, p) at e, next e,
+ *        / | \                 / | \             prev e (p->a unchanged)
+ *       /  T  \               / T'|U'\      U' = (d, b, p) at f, next f,
+ *      a ----- b     =>      a    |   b          prev f
+ *       \  U  /               \   |  /      edges opposite p stay at e
+ *        \   /                 \  | /       (a->d) and f (d->b)
+ *          d                     d
+ */
+static void flip(int32_t *adj, uint32_t *tri, uint32_t e, uint32_t f,
+                 uint32_t p) {
+    uint32_t ne = vor__next(e);
+    uint32_t nf = vor__next(f), pf = vor__prev(f);
+    uint32_t b = tri[ne], d = tri[pf];
+    int32_t x1 = adj[nf]; /* across a->d */
+    int32_t x2 = adj[pf]; /* across d->b */
+    int32_t y1 = adj[ne]; /* across b->p */
+    tri[ne] = d;
+    tri[f] = d;
+    tri[nf] = b;
+    tri[pf] = p;
+    link(adj, e, (uint32_t)x1);
+    link(adj, f, (uint32_t)x2);
+    link(adj, nf, (uint32_t)y1);
+    link(adj, ne, pf);
+}
+
+/* Pops edges until the stack is empty; each pop may push two. */
+static vor_status legalise(flipper *st, uint32_t p) {
+    uint32_t *tri = st->m->tri;
+    int32_t *adj = st->m->adj;
+    const double *xy = st->xy;
+    const double *pp = XY(p);
+    while (st->n) {
+        uint32_t e = st->stack[--st->n];
+        uint32_t a = tri[e], b = tri[vor__next(e)];
+        assert(tri[vor__prev(e)] == p);
+        if (a == VOR__GHOST || b == VOR__GHOST)
+            continue;
+        uint32_t f = (uint32_t)adj[e];
+        uint32_t d = tri[vor__prev(f)];
+        if (d == VOR__GHOST)
+            continue;
+        if (vor__incircle_fast(XY(a), XY(b), pp, XY(d)) <= 0)
+            continue;
+        if (reserve(st, 2))
+            return VOR_ENOMEM;
+        flip(adj, tri, e, f, p);
+        st->stack[st->n++] = e;
+        st->stack[st->n++] = f;
+    }
+    return VOR_OK;
+}
+
+static vor_status insert(flipper *st, uint32_t p) {
+    vor__mesh *m = st->m;
+    int32_t on_edge;
+    assert(m->n_tri + 2 <= m->cap_tri);
+    uint32_t t = vor__mesh_locate(m, st->xy, p, &st->w, &on_edge);
+    if (vor__mesh_is_ghost(m->tri, t)) {
+        if (hull_insert(st, t, p))
+            return VOR_ENOMEM;
+    } else {
+        if (reserve(st, 4))
+            return VOR_ENOMEM;
+        if (on_edge < 0)
+            split3(st, t, p);
+        else
+            split4(st, (uint32_t)on_edge, p);
+    }
+    return legalise(st, p);
+}
+
+vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
+                                  vor__mesh *m) {
+    double *xy;
+    flipper st = {.m = m};
+    vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
+    if (r != VOR_OK)
+        return r;
+    st.xy = xy;
+    for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
+        r = insert(&st, v);
+    free(st.stack);
+    free(xy);
+    if (r != VOR_OK) {
+        vor__mesh_clear(m);
+        return r;
+    }
+    vor__mesh_finish(m, &st.w, order);
+    return VOR_OK;
+}
 
 vor_status vor__flip_mesh(const vor_sites *s, vor__mesh *m) {
-    (void)s;
-    (void)m;
-    return VOR_EUNAVAILABLE;
+    if (s->n < 3)
+        return VOR_EINVAL;
+    uint32_t *order = malloc(s->n * sizeof *order);
+    if (!order)
+        return VOR_ENOMEM;
+    vor_status r = vor__insertion_order(s->xy, s->n, order);
+    if (r == VOR_OK)
+        r = vor__flip_mesh_ordered(s, order, m);
+    free(order);
+    return r;
 }
 
 vor_status vor__flip(const vor_sites *s, vor_diagram **out) {
-    (void)s;
+    vor__mesh m = {0};
     *out = NULL;
-    return VOR_EUNAVAILABLE;
+    vor_status r = vor__flip_mesh(s, &m);
+    if (r != VOR_OK)
+        return r;
+    return vor__mesh_to_diagram(s, &m, out);
 }

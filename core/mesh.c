@@ -1,9 +1,30 @@
-/* mesh.c -- the Delaunay mesh shared by Bowyer-Watson and flipping
- * (placeholder: the real construction helpers and checker follow). */
+/* mesh.c -- the Delaunay mesh shared by Bowyer-Watson and Lawson flipping:
+ * the start of a construction, point location, removal of the ghost
+ * triangles at the end, and the exact checker.
+ *
+ * Representation (internal.h): delaunator's two flat arrays, tri[3t+k]
+ * vertex ids counter-clockwise and adj[3t+k] the twin half-edge. During
+ * construction the hull is closed by ghost triangles around the symbolic
+ * vertex VOR__GHOST (mesh.h), so the mesh is a sphere triangulation with
+ * exactly 2k - 2 triangles for k inserted sites and both algorithms only
+ * ever add two triangles per site: the arrays are allocated once for
+ * 2n - 2 triangles (48 bytes per site) and never grow.
+ *
+ * Cost: vor__mesh_begin O(n) (allocation, local copy of the coordinates),
+ * vor__mesh_locate O(length of the walk), short in spatial insertion order;
+ * vor__mesh_finish O(n) (renumbering);
+ * vor__mesh_check O(n) time and about 6 bytes per site of scratch memory.
+ * All geometric decisions are the exact predicates of internal.h.
+ */
+#include <assert.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
-#include "internal.h"
+#include "mesh.h"
+
+#define XY(v) (xy + 2 * (size_t)(v))
 
 void vor__mesh_clear(vor__mesh *m) {
     if (!m)
@@ -16,11 +37,461 @@ void vor__mesh_clear(vor__mesh *m) {
     m->cap_tri = 0;
 }
 
+/* ---- Start ---------------------------------------------------------------
+ *
+ * The first triangle a, b, c (counter-clockwise) in slot 0 and one ghost per
+ * edge in slots 1..3. Ghost 1 + k sits on edge k of slot 0:
+ *
+ *              GHOST
+ *             /  |  \            slot 0: (a, b, c)
+ *            /   c   \           ghost on edge a->b: (b, a, GHOST)
+ *           /  /   \  \          ghost on edge b->c: (c, b, GHOST)
+ *            a ----- b           ghost on edge c->a: (a, c, GHOST)
+ *              GHOST
+ *
+ * Ghost g = 1 + k is (y, x, GHOST) for edge k = x->y of slot 0; its edge
+ * x->GHOST (3g+1) is the twin of GHOST->x in the ghost of the edge that ends
+ * at x, which is edge prev(k): 3(1 + prev(k)) + 2.
+ */
+vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
+                           uint32_t *order, double **pxy, vor__walk *w) {
+    *pxy = NULL;
+    if (n < 3)
+        return VOR_EINVAL;
+    /* 2n - 2 triangles, 3 half-edges each, ids must fit in int32_t. */
+    if (n > ((size_t)INT32_MAX / 3 + 2) / 2)
+        return VOR_ETOOMANY;
+    size_t cap = 2 * n - 2;
+    const double *a = XY(order[0]), *b = XY(order[1]);
+    size_t k = 2;
+    while (k < n && vor__orient2d_fast(a, b, XY(order[k])) == 0)
+        k++;
+    if (k == n)
+        return VOR_EINVAL;
+    uint32_t c = order[k];
+    order[k] = order[2];
+    order[2] = c;
+    double *local = malloc(2 * n * sizeof *local);
+    m->tri = malloc(3 * cap * sizeof *m->tri);
+    m->adj = malloc(3 * cap * sizeof *m->adj);
+    if (!local || !m->tri || !m->adj) {
+        free(local);
+        vor__mesh_clear(m);
+        return VOR_ENOMEM;
+    }
+    for (size_t i = 0; i < n; i++) {
+        local[2 * i] = xy[2 * (size_t)order[i]];
+        local[2 * i + 1] = xy[2 * (size_t)order[i] + 1];
+    }
+    m->cap_tri = cap;
+    m->n_tri = 4;
+    uint32_t *tri = m->tri;
+    int32_t *adj = m->adj;
+    int ccw = vor__orient2d_fast(local, local + 2, local + 4) > 0;
+    tri[0] = ccw ? 0 : 1;
+    tri[1] = ccw ? 1 : 0;
+    tri[2] = 2;
+    for (uint32_t e = 0; e < 3; e++) {
+        uint32_t g = 1 + e;
+        tri[3 * g] = tri[vor__next(e)];
+        tri[3 * g + 1] = tri[e];
+        tri[3 * g + 2] = VOR__GHOST;
+        adj[e] = (int32_t)(3 * g);
+        adj[3 * g] = (int32_t)e;
+        adj[3 * g + 1] = (int32_t)(3 * (1 + vor__prev(e)) + 2);
+        adj[3 * (1 + vor__prev(e)) + 2] = (int32_t)(3 * g + 1);
+    }
+    w->tri = 0;
+    w->ghost = 1;
+    w->rng = 0x9e3779b9u;
+    *pxy = local;
+    return VOR_OK;
+}
+
+/* ---- Point location ------------------------------------------------------ */
+
+uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
+                          vor__walk *w, int32_t *on_edge) {
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    const double *pp = XY(p);
+    uint32_t t = w->tri;
+    if (vor__mesh_is_ghost(tri, t)) {
+        /* Step into the finite triangle across the ghost's hull edge. */
+        uint32_t e = 3 * t;
+        while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
+            e++;
+        t = (uint32_t)adj[e] / 3;
+    }
+    uint32_t from = UINT32_MAX; /* the half-edge we entered t by */
+    uint32_t rng = w->rng;
+    for (;;) {
+        /* xorshift32: which edge to test first, so that no fixed order can
+         * make the walk go round in circles. */
+        rng ^= rng << 13;
+        rng ^= rng >> 17;
+        rng ^= rng << 5;
+        uint32_t first = rng % 3;
+        int32_t zero = -1;
+        uint32_t k;
+        for (k = 0; k < 3; k++) {
+            uint32_t e = 3 * t + (first + k) % 3;
+            if (e == from)
+                continue; /* p is strictly inside that edge already */
+            int o = vor__orient2d_fast(XY(tri[e]), XY(tri[vor__next(e)]), pp);
+            if (o < 0) {
+                uint32_t f = (uint32_t)adj[e];
+                t = f / 3;
+                from = f;
+                if (tri[vor__prev(f)] == VOR__GHOST) {
+                    w->tri = t;
+                    w->rng = rng;
+                    *on_edge = -1;
+                    return t;
+                }
+                break;
+            }
+            if (o == 0)
+                zero = (int32_t)e;
+        }
+        if (k == 3) {
+            w->tri = t;
+            w->rng = rng;
+            *on_edge = zero;
+            return t;
+        }
+    }
+}
+
+int vor__ghost_conflict(const double *a, const double *b, const double *p) {
+    int o = vor__orient2d_fast(a, b, p);
+    if (o != 0)
+        return o > 0;
+    /* On the line through a and b: inside the open segment? Exact, since
+     * only comparisons are involved. */
+    if (a[0] != b[0])
+        return a[0] < b[0] ? (a[0] < p[0] && p[0] < b[0])
+                           : (b[0] < p[0] && p[0] < a[0]);
+    return a[1] < b[1] ? (a[1] < p[1] && p[1] < b[1])
+                       : (b[1] < p[1] && p[1] < a[1]);
+}
+
+/* ---- Removing the ghosts -------------------------------------------------
+ *
+ * The ghosts form a ring around GHOST: if e is the hull edge a->b of a
+ * ghost (GHOST at prev(e)), then next(e) = b->GHOST is the twin of GHOST->b
+ * in the next ghost, whose hull edge starts at b: next(adj[next(e)]).
+ *
+ *     pass 1: walk the ring, give the finite twin of every hull edge adj -1
+ *             and count the ghosts h; the public mesh has F = n_tri - h.
+ *     pass 2: walk the ring again; each ghost in a slot < F is overwritten
+ *             by a finite triangle taken from the slots >= F (scanning down
+ *             from the end), whose neighbours are told its new place.
+ *     pass 3: local vertex ids become site indices.
+ * The ring is only read ahead of the slot being overwritten, so it stays
+ * valid for the rest of pass 2.
+ */
+static uint32_t ghost_hull_edge(const uint32_t *tri, uint32_t g) {
+    uint32_t e = 3 * g;
+    while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
+        e++;
+    return e;
+}
+
+static void move_triangle(uint32_t *tri, int32_t *adj, uint32_t from,
+                          uint32_t to) {
+    for (uint32_t k = 0; k < 3; k++) {
+        int32_t a = adj[3 * from + k];
+        tri[3 * to + k] = tri[3 * from + k];
+        adj[3 * to + k] = a;
+        if (a >= 0)
+            adj[a] = (int32_t)(3 * to + k);
+    }
+}
+
+void vor__mesh_finish(vor__mesh *m, const vor__walk *w,
+                      const uint32_t *order) {
+    uint32_t *tri = m->tri;
+    int32_t *adj = m->adj;
+    uint32_t e0 = ghost_hull_edge(tri, w->ghost);
+    size_t h = 0;
+    uint32_t e = e0;
+    do {
+        adj[adj[e]] = -1;
+        h++;
+        e = vor__next((uint32_t)adj[vor__next(e)]);
+    } while (e != e0);
+    size_t f = m->n_tri - h;
+    size_t j = m->n_tri; /* finite triangles >= f are taken from below j */
+    e = e0;
+    for (size_t i = 0; i < h; i++) {
+        uint32_t g = e / 3;
+        e = vor__next((uint32_t)adj[vor__next(e)]);
+        if (g >= f)
+            continue;
+        do
+            j--;
+        while (vor__mesh_is_ghost(tri, (uint32_t)j));
+        assert(j >= f);
+        move_triangle(tri, adj, (uint32_t)j, g);
+    }
+    m->n_tri = f;
+    for (size_t i = 0; i < 3 * f; i++)
+        tri[i] = order[tri[i]];
+}
+
+/* ---- The checker --------------------------------------------------------- */
+
+/* Writes the reason into msg (if any) and returns 1. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static int fail(char *msg, size_t msg_size, const char *fmt, ...) {
+    if (msg && msg_size) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, msg_size, fmt, ap);
+        va_end(ap);
+    }
+    return 1;
+}
+
+/* Quadrant of the direction a->b, exactly (comparisons only):
+ * 0: dx > 0, dy >= 0; 1: dx <= 0, dy > 0; 2: dx < 0, dy <= 0;
+ * 3: dx >= 0, dy < 0. a != b. */
+static int quadrant(const double *a, const double *b) {
+    int sx = (b[0] > a[0]) - (b[0] < a[0]);
+    int sy = (b[1] > a[1]) - (b[1] < a[1]);
+    if (sx > 0 && sy >= 0)
+        return 0;
+    if (sx <= 0 && sy > 0)
+        return 1;
+    if (sx < 0 && sy <= 0)
+        return 2;
+    return 3;
+}
+
+/* Non-zero if b lies strictly between a and c on the line through them
+ * (the three are known to be collinear). */
+static int strictly_between(const double *a, const double *b,
+                            const double *c) {
+    if (a[0] != c[0])
+        return a[0] < c[0] ? (a[0] < b[0] && b[0] < c[0])
+                           : (c[0] < b[0] && b[0] < a[0]);
+    return a[1] < c[1] ? (a[1] < b[1] && b[1] < c[1])
+                       : (c[1] < b[1] && b[1] < a[1]);
+}
+
+/* Structure: ids in range, distinct vertices, twins symmetric and with
+ * swapped ends, every triangle counter-clockwise. */
+static int check_structure(const vor__mesh *m, const vor_sites *s, char *msg,
+                           size_t msg_size) {
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    const double *xy = s->xy;
+    size_t ne = 3 * m->n_tri;
+    for (size_t t = 0; t < m->n_tri; t++) {
+        uint32_t a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2];
+        if (a >= s->n || b >= s->n || c >= s->n)
+            return fail(msg, msg_size,
+                        "triangle %zu (%u, %u, %u): vertex id out of range",
+                        t, a, b, c);
+        if (a == b || b == c || c == a)
+            return fail(msg, msg_size,
+                        "triangle %zu (%u, %u, %u): repeated vertex", t, a,
+                        b, c);
+        if (vor__orient2d_fast(XY(a), XY(b), XY(c)) <= 0)
+            return fail(msg, msg_size,
+                        "triangle %zu (%u, %u, %u) is not counter-clockwise",
+                        t, a, b, c);
+    }
+    for (size_t e = 0; e < ne; e++) {
+        int32_t f = adj[e];
+        if (f == -1)
+            continue;
+        if (f < 0 || (size_t)f >= ne)
+            return fail(msg, msg_size, "half-edge %zu: twin %d out of range",
+                        e, (int)f);
+        if ((size_t)adj[f] != e)
+            return fail(msg, msg_size,
+                        "half-edge %zu: twin %d points back to %d", e,
+                        (int)f, (int)adj[f]);
+        uint32_t fe = (uint32_t)f;
+        if (tri[fe] != tri[vor__next((uint32_t)e)] ||
+            tri[vor__next(fe)] != tri[e])
+            return fail(msg, msg_size,
+                        "half-edge %zu (%u->%u): twin %d is %u->%u", e,
+                        tri[e], tri[vor__next((uint32_t)e)], (int)f,
+                        tri[fe], tri[vor__next(fe)]);
+    }
+    return 0;
+}
+
+/* Every site is a vertex, and the triangles around every vertex form one
+ * fan (a disk for an interior vertex, a path for a hull vertex): the mesh
+ * is a surface. seen is 3 * n_tri bytes of scratch, fans n bytes. */
+static int check_fans(const vor__mesh *m, const vor_sites *s, uint8_t *seen,
+                      uint8_t *fans, char *msg, size_t msg_size) {
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    size_t ne = 3 * m->n_tri;
+    memset(seen, 0, ne);
+    memset(fans, 0, s->n);
+    for (size_t e0 = 0; e0 < ne; e0++) {
+        if (seen[e0])
+            continue;
+        uint32_t v = tri[e0];
+        if (fans[v]++)
+            return fail(msg, msg_size,
+                        "vertex %u: its triangles form more than one fan "
+                        "(met again at half-edge %zu)",
+                        v, e0);
+        /* Counter-clockwise from e0 (out of v) through prev, twin. */
+        uint32_t e = (uint32_t)e0;
+        int closed = 0;
+        for (;;) {
+            seen[e] = 1;
+            int32_t f = adj[vor__prev(e)];
+            if (f < 0)
+                break;
+            e = (uint32_t)f;
+            if (e == e0) {
+                closed = 1;
+                break;
+            }
+            if (seen[e])
+                return fail(msg, msg_size,
+                            "vertex %u: fan runs into half-edge %u twice", v,
+                            e);
+        }
+        if (closed)
+            continue;
+        /* Clockwise from e0 through twin, next. */
+        e = (uint32_t)e0;
+        for (;;) {
+            int32_t f = adj[e];
+            if (f < 0)
+                break;
+            e = vor__next((uint32_t)f);
+            if (seen[e])
+                return fail(msg, msg_size,
+                            "vertex %u: fan runs into half-edge %u twice", v,
+                            e);
+            seen[e] = 1;
+        }
+    }
+    for (size_t v = 0; v < s->n; v++)
+        if (!fans[v])
+            return fail(msg, msg_size, "site %zu is not a vertex of the mesh",
+                        v);
+    return 0;
+}
+
+/* The hull edges (adj -1) form one closed cycle, counter-clockwise, that
+ * turns left or goes straight on at every vertex and winds exactly once:
+ * a convex polygon, collinear hull sites included. out is n uint32 of
+ * scratch. On success *h is the number of hull edges. */
+static int check_hull(const vor__mesh *m, const vor_sites *s, uint32_t *out,
+                      size_t *h, char *msg, size_t msg_size) {
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    const double *xy = s->xy;
+    size_t ne = 3 * m->n_tri;
+    size_t count = 0;
+    uint32_t start = UINT32_MAX;
+    for (size_t v = 0; v < s->n; v++)
+        out[v] = UINT32_MAX;
+    for (size_t e = 0; e < ne; e++) {
+        if (adj[e] != -1)
+            continue;
+        uint32_t v = tri[e];
+        if (out[v] != UINT32_MAX)
+            return fail(msg, msg_size,
+                        "vertex %u has two hull edges (half-edges %u, %zu)",
+                        v, out[v], e);
+        out[v] = (uint32_t)e;
+        start = (uint32_t)e;
+        count++;
+    }
+    if (count < 3)
+        return fail(msg, msg_size, "hull has %zu edges", count);
+    size_t steps = 0;
+    long turn = 0;
+    uint32_t e = start;
+    do {
+        uint32_t a = tri[e], b = tri[vor__next(e)];
+        uint32_t f = out[b];
+        if (f == UINT32_MAX)
+            return fail(msg, msg_size,
+                        "hull edge %u->%u (half-edge %u) has no successor",
+                        a, b, e);
+        uint32_t c = tri[vor__next(f)];
+        int o = vor__orient2d_fast(XY(a), XY(b), XY(c));
+        if (o < 0 || (o == 0 && !strictly_between(XY(a), XY(b), XY(c))))
+            return fail(msg, msg_size,
+                        "hull is not convex at vertex %u (%u->%u->%u)", b, a,
+                        b, c);
+        turn += (quadrant(XY(b), XY(c)) - quadrant(XY(a), XY(b)) + 4) % 4;
+        e = f;
+        steps++;
+    } while (e != start && steps <= count);
+    if (steps != count)
+        return fail(msg, msg_size,
+                    "hull edges form more than one cycle (%zu of %zu)",
+                    steps, count);
+    if (turn != 4)
+        return fail(msg, msg_size, "hull winds %ld quarter turns, not 4",
+                    turn);
+    *h = count;
+    return 0;
+}
+
 int vor__mesh_check(const vor__mesh *m, const vor_sites *s, char *msg,
                     size_t msg_size) {
-    (void)m;
-    (void)s;
-    if (msg && msg_size)
-        snprintf(msg, msg_size, "mesh checker not available yet");
-    return 1;
+    if (!m || !s || !s->xy || s->n < 3)
+        return fail(msg, msg_size, "no mesh or fewer than 3 sites");
+    if (m->n_tri == 0 || !m->tri || !m->adj)
+        return fail(msg, msg_size, "empty mesh");
+    if (m->n_tri > m->cap_tri)
+        return fail(msg, msg_size, "n_tri %zu exceeds cap_tri %zu", m->n_tri,
+                    m->cap_tri);
+    if (check_structure(m, s, msg, msg_size))
+        return 1;
+    size_t ne = 3 * m->n_tri;
+    uint8_t *bytes = malloc(ne + s->n);
+    uint32_t *out = malloc(s->n * sizeof *out);
+    if (!bytes || !out) {
+        free(bytes);
+        free(out);
+        return fail(msg, msg_size, "out of memory while checking");
+    }
+    size_t h = 0;
+    int bad = check_fans(m, s, bytes, bytes + ne, msg, msg_size) ||
+              check_hull(m, s, out, &h, msg, msg_size);
+    free(bytes);
+    free(out);
+    if (bad)
+        return 1;
+    if (m->n_tri != 2 * s->n - 2 - h)
+        return fail(msg, msg_size,
+                    "%zu triangles, Euler says %zu for %zu sites and %zu "
+                    "hull vertices",
+                    m->n_tri, 2 * s->n - 2 - h, s->n, h);
+    const uint32_t *tri = m->tri;
+    const int32_t *adj = m->adj;
+    const double *xy = s->xy;
+    for (size_t e = 0; e < ne; e++) {
+        int32_t f = adj[e];
+        if (f < 0 || (size_t)f < e)
+            continue;
+        uint32_t a = tri[e], b = tri[vor__next((uint32_t)e)];
+        uint32_t c = tri[vor__prev((uint32_t)e)];
+        uint32_t d = tri[vor__prev((uint32_t)f)];
+        if (vor__incircle_fast(XY(a), XY(b), XY(c), XY(d)) > 0)
+            return fail(msg, msg_size,
+                        "edge %u-%u (triangles %zu, %d) is not locally "
+                        "Delaunay: %u is inside the circle of %u, %u, %u",
+                        a, b, e / 3, (int)f / 3, d, a, b, c);
+    }
+    return 0;
 }

@@ -1,0 +1,98 @@
+/* mesh.h -- construction helpers shared by the two incremental Delaunay
+ * triangulations (core/bowyer_watson.c, core/flip.c); the mesh type itself
+ * and its public operations are declared in internal.h.
+ *
+ * During construction the convex hull is closed by a symbolic vertex at
+ * infinity, VOR__GHOST: every hull edge a->b (interior on its left) has a
+ * ghost triangle (b, a, GHOST) on its other side, so the mesh is a
+ * triangulation of the sphere. With k sites inserted it holds exactly
+ * 2k - 2 triangles (Euler), ghosts included, and no half-edge has adj -1.
+ * The ghost vertex may sit at any of the three positions of a ghost
+ * triangle. vor__mesh_finish() removes the ghosts and leaves the public
+ * form: finite counter-clockwise triangles, adj -1 on the hull, compact.
+ *
+ * The "circumcircle" of a ghost triangle (a, b, GHOST) is the open half-plane
+ * to the left of a->b (outside the hull) plus the open segment ab: a point
+ * exactly on a hull edge conflicts with both triangles of that edge, a point
+ * on the line through a hull edge but beyond its ends conflicts with neither.
+ * With this rule Bowyer-Watson cavities stay star-shaped from the new point
+ * and Lawson flips never create a flat triangle.
+ */
+#ifndef VOR_MESH_H
+#define VOR_MESH_H
+
+#include <stdint.h>
+
+#include "internal.h"
+#include "predicates.h"
+
+/* The vertex at infinity. Never a site index: sites are < 2^30. */
+#define VOR__GHOST UINT32_MAX
+
+/* Walk state kept between insertions: where the last point went (the next
+ * one, close in insertion order, starts its walk there), one ghost triangle
+ * (to find the hull at the end) and the random bits of the walk. */
+typedef struct vor__walk {
+    uint32_t tri;
+    uint32_t ghost;
+    uint32_t rng;
+} vor__walk;
+
+/* Non-zero if triangle t is a ghost. */
+static inline int vor__mesh_is_ghost(const uint32_t *tri, uint32_t t) {
+    return tri[3 * t] == VOR__GHOST || tri[3 * t + 1] == VOR__GHOST ||
+           tri[3 * t + 2] == VOR__GHOST;
+}
+
+/* Allocates *m (zeroed by the caller) for n sites and builds the first
+ * triangle and its three ghosts. order[0..n-1] is the insertion order of the
+ * sites at xy (2n doubles); the first site after order[0], order[1] that is
+ * not collinear with them is swapped into order[2].
+ *
+ * The mesh is built on local vertex ids, the ranks in insertion order:
+ * *pxy receives a new array (free with free()) of the 2n coordinates in
+ * insertion order, so that vertex i is at (*pxy)[2i]. Spatial insertion
+ * order thereby becomes spatial memory order, which is what keeps the walk
+ * and the predicates in cache; vor__mesh_finish() maps the ids back to
+ * site indices. The caller inserts vertices 3..n-1 afterwards.
+ *
+ * VOR_EINVAL if n < 3 or all sites are collinear, VOR_ETOOMANY if
+ * half-edge ids would not fit in int32_t, VOR_ENOMEM; on error *m is left
+ * empty and *pxy NULL. O(n), plus O(k) predicates when the first k sites in
+ * order are collinear. */
+vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
+                           uint32_t *order, double **pxy, vor__walk *w);
+
+/* Finds where vertex p goes, walking from w->tri with a remembering
+ * stochastic visibility walk (orient2d only; each step crosses an edge that
+ * p is strictly beyond, so the walk cannot cycle in a triangulation and the
+ * random choice of the edge to test first keeps it from cycling forever).
+ * Returns either a finite triangle containing p in its closure, with
+ * *on_edge the half-edge p lies on (orient2d == 0) or -1 if p is strictly
+ * inside, or a ghost triangle whose hull edge has p strictly on its outer
+ * side (*on_edge == -1). Updates w->tri. Expected O(distance walked). */
+uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
+                          vor__walk *w, int32_t *on_edge);
+
+/* Non-zero if p is in the "circumcircle" of ghost triangle with hull edge
+ * a->b (see the file comment): strictly left of a->b, or strictly inside
+ * the segment ab. */
+int vor__ghost_conflict(const double *a, const double *b, const double *p);
+
+/* Removes the ghost triangles (w->ghost must be one of them) and maps the
+ * local vertex ids back to site indices through order: the finite twins of
+ * hull edges get adj -1 and the finite triangles stored after the first
+ * n_tri - h slots move into the holes. O(n_tri). Cannot fail. */
+void vor__mesh_finish(vor__mesh *m, const vor__walk *w,
+                      const uint32_t *order);
+
+/* The triangulations with a given insertion order (tests use this to force
+ * degenerate starts). order holds n site indices, each once; it is
+ * permuted in place. Same contract as vor__bowyer_watson_mesh and
+ * vor__flip_mesh otherwise. */
+vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
+                                           uint32_t *order, vor__mesh *m);
+vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
+                                  vor__mesh *m);
+
+#endif /* VOR_MESH_H */
