@@ -75,7 +75,7 @@ size_t srv_access_format(const srv_access *a, char *out, size_t size) {
     if (ms > 999) ms = 999;
     struct tm tm;
     gmtime_r(&secs, &tm);
-    char stamp[40];
+    char stamp[96];
     snprintf(stamp, sizeof stamp, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ",
              tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
              tm.tm_min, tm.tm_sec, ms);
