@@ -27,7 +27,10 @@ DEPS_TEST := curl chromium nginx-light
 # node and npm: the machine's own if it has them (a NodeSource build bundles
 # npm and conflicts with Debian's npm package), Debian's otherwise.
 DEPS_NODE := $(if $(shell command -v npm),,nodejs npm)
-DEPS_BENCH := libcgal-dev wrk hyperfine gnuplot-nox
+# bench: CGAL, Boost.Polygon and qhull are the peers the algorithms are
+# compared with (delaunator and d3-delaunay come from npm); wrk loads the
+# service; gnuplot draws the plots.
+DEPS_BENCH := libcgal-dev libboost-dev libqhull-dev wrk gnuplot-nox curl
 
 WARN := -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes \
         -Wmissing-prototypes -Werror
@@ -192,6 +195,16 @@ test: deps deps-test
 	else echo "make test: FAILED:$$failed"; fi; exit $$fail
 
 # ---- bench ---------------------------------------------------------------
+# Owned by bench/. bench/run builds the drivers (make bench-bins, each peer
+# on its own so that one missing library skips one peer) and writes tables,
+# CSV and plots into $(B)/bench/. BENCH_QUICK=1 bench/run: small sizes only.
+BENCH_BIN = $(B)/bench/bin
+# The peers are built with the release library's optimisation, no more.
+BENCH_OPT := -O2 -DNDEBUG
+BENCH_PEERS = $(BENCH_BIN)/peer_cgal $(BENCH_BIN)/peer_boost \
+              $(BENCH_BIN)/peer_qhull
+
+.PHONY: bench-bins bench-peers
 bench: deps deps-bench all
 	@if [ -x bench/run ]; then B=$(B) bench/run; else echo "bench/run: none"; fi
 
@@ -273,7 +286,7 @@ deps:
 deps-test:
 	$(call INSTALL_MISSING,$(DEPS_TEST) $(DEPS_NODE))
 deps-bench:
-	$(call INSTALL_MISSING,$(DEPS_BENCH))
+	$(call INSTALL_MISSING,$(DEPS_BENCH) $(DEPS_NODE))
 
 check-deps: ;
 

@@ -1,0 +1,714 @@
+/* bench_algo.c -- the driver that times libvor's algorithms and checks
+ * triangulations, ours and the peers', with exact predicates.
+ *
+ * Subcommands (bench/run calls them; every one prints what it measured):
+ *
+ *   table   for each distribution, each n and each algorithm, one child
+ *           process: generate the points, prepare the sites (vor_sites_new,
+ *           outside the timer), then time vor_compute -- the full canonical
+ *           diagram -- several times (more runs for small n, within a time
+ *           budget) and report the median; at the sizes named by --mem-ns
+ *           the first run also measures peak memory (bench_util.h). Prints
+ *           one table per distribution and writes every case to --csv.
+ *   points  writes a generated set as a points file, so that every peer
+ *           reads the very same doubles.
+ *   json    writes a generated set as a POST /voronoi JSON body.
+ *   ours    times one algorithm on a points file like the peers are timed,
+ *           optionally writing the dual triangles for `check`.
+ *   check   verifies a triangulation of a points file exactly: indices in
+ *           range, every triangle strictly counter-clockwise, every edge in
+ *           at most two triangles and in opposite directions, every interior
+ *           edge locally Delaunay (vor_incircle), every point used, and the
+ *           triangle count equal to 2n - 2 - h, with h the points on the
+ *           convex hull's boundary from an independent monotone chain. Also
+ *           counts Voronoi vertices (triangles merged across cocircular
+ *           edges) to compare with our diagram.
+ *
+ * Distributions: uniform (unit square), gaussian (N(0,1) per axis), random
+ * (integer pixels in 800x600, with duplicates) and unit-circle (cos, sin of
+ * 2 pi k/n), from tests/support/testsets.h, deterministic for a seed.
+ *
+ * Each table case runs in its own process so that one case's heap does not
+ * skew the next one's time or memory, and so that a crash or an overlong
+ * run (SIGALRM after --limit-s) costs one row, not the run.
+ */
+#include <errno.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "../core/internal.h"
+#include "../core/vor.h"
+#include "../tests/support/testsets.h"
+#include "bench_util.h"
+
+#define MAX_LIST 32
+
+static void usage(void) {
+    fputs(
+        "usage: bench_algo table [--algos a,b] [--dists d,e] [--ns 10,100]\n"
+        "                        [--mem-ns 100000] [--check-max N] [--seed S]\n"
+        "                        [--budget-ms 300] [--limit-s 240] --csv FILE\n"
+        "       bench_algo points --dist D --n N [--seed S] --out FILE\n"
+        "       bench_algo json   --dist D --n N [--seed S] [--algo A] --out FILE\n"
+        "       bench_algo ours   --algo A --points FILE [--runs R] [--tris FILE]\n"
+        "       bench_algo check  --points FILE --tris FILE\n"
+        "distributions: uniform gaussian random unit-circle\n",
+        stderr);
+}
+
+/* ---- options -------------------------------------------------------------- */
+
+typedef struct opts {
+    const char *algos, *dists, *ns, *mem_ns, *csv, *out, *points, *tris;
+    const char *dist, *algo;
+    size_t n, check_max;
+    uint64_t seed;
+    double budget_ms;
+    int runs, limit_s;
+} opts;
+
+static int parse_opts(int argc, char **argv, opts *o) {
+    memset(o, 0, sizeof *o);
+    o->algos = "fortune,bowyer-watson,flip";
+    o->dists = "uniform,gaussian,random";
+    o->ns = "10,100,1000";
+    o->mem_ns = "";
+    o->algo = "bowyer-watson";
+    o->seed = 1;
+    o->budget_ms = 300;
+    o->runs = 3;
+    o->limit_s = 240;
+    o->check_max = 100000;
+    for (int i = 2; i < argc; i++) {
+        const char *k = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!v) {
+            fprintf(stderr, "%s needs a value\n", k);
+            return -1;
+        }
+        i++;
+        if (!strcmp(k, "--algos")) o->algos = v;
+        else if (!strcmp(k, "--dists")) o->dists = v;
+        else if (!strcmp(k, "--ns")) o->ns = v;
+        else if (!strcmp(k, "--mem-ns")) o->mem_ns = v;
+        else if (!strcmp(k, "--csv")) o->csv = v;
+        else if (!strcmp(k, "--out")) o->out = v;
+        else if (!strcmp(k, "--points")) o->points = v;
+        else if (!strcmp(k, "--tris")) o->tris = v;
+        else if (!strcmp(k, "--dist")) o->dist = v;
+        else if (!strcmp(k, "--algo")) o->algo = v;
+        else if (!strcmp(k, "--n")) o->n = strtoull(v, NULL, 10);
+        else if (!strcmp(k, "--check-max")) o->check_max = strtoull(v, NULL, 10);
+        else if (!strcmp(k, "--seed")) o->seed = strtoull(v, NULL, 10);
+        else if (!strcmp(k, "--budget-ms")) o->budget_ms = strtod(v, NULL);
+        else if (!strcmp(k, "--runs")) o->runs = atoi(v);
+        else if (!strcmp(k, "--limit-s")) o->limit_s = atoi(v);
+        else {
+            fprintf(stderr, "unknown option %s\n", k);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* Splits a comma-separated list in place (s is copied first); returns the
+ * count, at most MAX_LIST. */
+static size_t split(const char *s, char *buf, size_t bufsize,
+                    const char **items) {
+    size_t n = 0;
+    snprintf(buf, bufsize, "%s", s);
+    for (char *tok = strtok(buf, ","); tok && n < MAX_LIST;
+         tok = strtok(NULL, ","))
+        items[n++] = tok;
+    return n;
+}
+
+/* ---- points ----------------------------------------------------------------- */
+
+/* New array of 2n doubles for a named distribution, NULL if unknown or out of
+ * memory. */
+static double *generate(const char *dist, size_t n, uint64_t seed) {
+    if (!strcmp(dist, "uniform"))
+        return vt_uniform(n, seed);
+    if (!strcmp(dist, "gaussian"))
+        return vt_gaussian(n, seed);
+    if (!strcmp(dist, "random"))
+        return vt_pixels(n, seed);
+    if (!strcmp(dist, "unit-circle"))
+        return vt_unit_circle(n);
+    fprintf(stderr, "unknown distribution %s\n", dist);
+    return NULL;
+}
+
+/* ---- one timed case ---------------------------------------------------------- */
+
+typedef struct result {
+    int status;        /* vor_status of the last compute */
+    int check_ok;      /* 1 valid, 0 invalid, -1 not checked */
+    int runs;
+    size_t n, distinct, vertices, edges, triangles;
+    double median_ms, min_ms, peak_bytes;
+    char msg[160];
+} result;
+
+/* Times vor_compute on prepared sites: one run first (with the peak-memory
+ * probe when measure_mem), then as many as fit in budget_ms (at least
+ * min_runs in all, at most max_runs). Keeps the last diagram in *keep when
+ * keep != NULL. */
+static void time_compute(const vor_sites *sites, vor_algorithm algo,
+                         int measure_mem, double budget_ms, int min_runs,
+                         int max_runs, result *r, vor_diagram **keep) {
+    double *ms = malloc(sizeof *ms * (size_t)(max_runs > 0 ? max_runs : 1));
+    vor_diagram *d = NULL;
+    long base = -1;
+    if (!ms) {
+        r->status = VOR_ENOMEM;
+        return;
+    }
+    r->peak_bytes = -1;
+    if (measure_mem)
+        base = bu_peak_reset();
+    uint64_t t0 = bu_now_ns();
+    vor_status st = vor_compute(sites, algo, &d);
+    uint64_t t1 = bu_now_ns();
+    if (measure_mem && st == VOR_OK)
+        r->peak_bytes = bu_peak_bytes(base);
+    ms[0] = (double)(t1 - t0) / 1e6;
+    int runs = 1;
+    int want = bu_runs_for((double)(t1 - t0), budget_ms * 1e6, min_runs,
+                           max_runs);
+    while (st == VOR_OK && runs < want) {
+        vor_diagram_free(d);
+        d = NULL;
+        t0 = bu_now_ns();
+        st = vor_compute(sites, algo, &d);
+        t1 = bu_now_ns();
+        ms[runs++] = (double)(t1 - t0) / 1e6;
+    }
+    r->status = st;
+    r->runs = runs;
+    r->min_ms = ms[0];
+    for (int i = 1; i < runs; i++)
+        if (ms[i] < r->min_ms)
+            r->min_ms = ms[i];
+    r->median_ms = bu_median(ms, (size_t)runs);
+    if (d) {
+        r->vertices = d->n_vertices;
+        r->edges = d->n_edges;
+    }
+    if (keep)
+        *keep = d;
+    else
+        vor_diagram_free(d);
+    free(ms);
+}
+
+/* The child's work for one table case; fills *r. */
+static void table_case(const opts *o, const char *dist, vor_algorithm algo,
+                       size_t n, int measure_mem, result *r) {
+    memset(r, 0, sizeof *r);
+    r->n = n;
+    r->check_ok = -1;
+    r->peak_bytes = -1;
+    double *xy = generate(dist, n, o->seed);
+    vor_sites *sites = NULL;
+    if (!xy) {
+        r->status = VOR_ENOMEM;
+        return;
+    }
+    vor_status st = vor_sites_new(xy, n, &sites, NULL);
+    free(xy);
+    if (st != VOR_OK) {
+        r->status = st;
+        return;
+    }
+    r->distinct = sites->n;
+    vor_diagram *d = NULL;
+    int max_runs = n <= 1000 ? 1001 : n <= 100000 ? 51 : 5;
+    time_compute(sites, algo, measure_mem, o->budget_ms, 3, max_runs, r, &d);
+    if (d && n <= o->check_max) {
+        r->check_ok = vor_check(d, sites, r->msg, sizeof r->msg) == 0;
+    }
+    vor_diagram_free(d);
+    vor_sites_free(sites);
+}
+
+static const char *status_text(const result *r) {
+    if (r->status >= 0 && r->status < VOR_STATUS_COUNT)
+        return r->status == VOR_OK ? "ok" : vor_status_name(r->status);
+    return r->msg;
+}
+
+/* Runs table_case in a child with an alarm; a crash, a timeout or a broken
+ * pipe is reported in r (status -1, msg says what). */
+static void run_case(const opts *o, const char *dist, vor_algorithm algo,
+                     size_t n, int measure_mem, result *r) {
+    int fd[2];
+    memset(r, 0, sizeof *r);
+    r->n = n;
+    r->check_ok = -1;
+    r->peak_bytes = -1;
+    r->status = -1;
+    fflush(NULL);
+    if (pipe(fd) != 0) {
+        snprintf(r->msg, sizeof r->msg, "pipe: %s", strerror(errno));
+        return;
+    }
+    pid_t pid = fork();
+    if (pid < 0) {
+        snprintf(r->msg, sizeof r->msg, "fork: %s", strerror(errno));
+        close(fd[0]);
+        close(fd[1]);
+        return;
+    }
+    if (pid == 0) {
+        close(fd[0]);
+        alarm((unsigned)o->limit_s);
+        result mine;
+        table_case(o, dist, algo, n, measure_mem, &mine);
+        ssize_t w = write(fd[1], &mine, sizeof mine);
+        _exit(w == (ssize_t)sizeof mine ? 0 : 1);
+    }
+    close(fd[1]);
+    result got;
+    size_t have = 0;
+    while (have < sizeof got) {
+        ssize_t k = read(fd[0], (char *)&got + have, sizeof got - have);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0)
+            break;
+        have += (size_t)k;
+    }
+    close(fd[0]);
+    int ws = 0;
+    while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
+        ;
+    if (have == sizeof got) {
+        *r = got;
+    } else if (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGALRM) {
+        snprintf(r->msg, sizeof r->msg, "timeout>%ds", o->limit_s);
+    } else if (WIFSIGNALED(ws)) {
+        snprintf(r->msg, sizeof r->msg, "crash(signal %d)", WTERMSIG(ws));
+    } else {
+        snprintf(r->msg, sizeof r->msg, "no-result(exit %d)",
+                 WIFEXITED(ws) ? WEXITSTATUS(ws) : -1);
+    }
+}
+
+static int in_list(size_t n, const size_t *v, size_t k) {
+    for (size_t i = 0; i < k; i++)
+        if (v[i] == n)
+            return 1;
+    return 0;
+}
+
+static void fmt_ms(char *buf, size_t size, double ms) {
+    if (ms >= 100)
+        snprintf(buf, size, "%.0f", ms);
+    else if (ms >= 1)
+        snprintf(buf, size, "%.2f", ms);
+    else
+        snprintf(buf, size, "%.4f", ms);
+}
+
+static int cmd_table(const opts *o) {
+    char abuf[512], dbuf[512], nbuf[512], mbuf[512];
+    const char *an[MAX_LIST], *dn[MAX_LIST], *ns[MAX_LIST], *ms[MAX_LIST];
+    size_t na = split(o->algos, abuf, sizeof abuf, an);
+    size_t nd = split(o->dists, dbuf, sizeof dbuf, dn);
+    size_t nn = split(o->ns, nbuf, sizeof nbuf, ns);
+    size_t nm = split(o->mem_ns, mbuf, sizeof mbuf, ms);
+    vor_algorithm algo[MAX_LIST];
+    size_t nval[MAX_LIST], mem[MAX_LIST];
+    int bad = 0;
+    for (size_t i = 0; i < na; i++)
+        if (vor_algorithm_parse(an[i], &algo[i]) != VOR_OK) {
+            fprintf(stderr, "unknown algorithm %s\n", an[i]);
+            return 2;
+        }
+    for (size_t i = 0; i < nn; i++)
+        nval[i] = strtoull(ns[i], NULL, 10);
+    for (size_t i = 0; i < nm; i++)
+        mem[i] = strtoull(ms[i], NULL, 10);
+    FILE *csv = o->csv ? fopen(o->csv, "w") : NULL;
+    if (o->csv && !csv) {
+        perror(o->csv);
+        return 2;
+    }
+    if (csv)
+        fprintf(csv, "algorithm,distribution,n,distinct,runs,median_ms,min_ms,"
+                     "ns_per_point,peak_bytes_per_point,vertices,edges,check,"
+                     "status\n");
+    printf("Timed: vor_compute only (full canonical diagram), sites prepared "
+           "outside the timer;\nmedian of the runs shown; ns/pt = median / n "
+           "input points; B/pt = peak memory\nof one vor_compute per input "
+           "point (VmHWM growth, child process per case).\n"
+           "seed %llu\n",
+           (unsigned long long)o->seed);
+    for (size_t di = 0; di < nd; di++) {
+        /* Whether an algorithm has given up on this distribution (a larger
+         * n after a timeout or crash would only waste the budget). */
+        int gave_up[MAX_LIST] = {0};
+        printf("\n== %s\n%9s", dn[di], "n");
+        for (size_t ai = 0; ai < na; ai++)
+            printf(" | %-27s", an[ai]);
+        printf("\n%9s", "");
+        for (size_t ai = 0; ai < na; ai++)
+            printf(" | %9s %7s %4s %4s", "ms", "ns/pt", "B/pt", "runs");
+        printf("\n");
+        for (size_t ni = 0; ni < nn; ni++) {
+            size_t n = nval[ni];
+            size_t counts[MAX_LIST][2];
+            int have_counts = 0, differ = 0;
+            printf("%9zu", n);
+            fflush(stdout);
+            for (size_t ai = 0; ai < na; ai++) {
+                result r;
+                if (gave_up[ai]) {
+                    memset(&r, 0, sizeof r);
+                    r.n = n;
+                    r.status = -1;
+                    r.check_ok = -1;
+                    r.peak_bytes = -1;
+                    snprintf(r.msg, sizeof r.msg, "skipped");
+                } else {
+                    run_case(o, dn[di], algo[ai], n, in_list(n, mem, nm), &r);
+                }
+                if (r.status != VOR_OK) {
+                    printf(" | %-27.27s", status_text(&r));
+                    if (r.status < 0)
+                        gave_up[ai] = 1;
+                } else {
+                    char t[32], b[16] = "-";
+                    fmt_ms(t, sizeof t, r.median_ms);
+                    if (r.peak_bytes >= 0)
+                        snprintf(b, sizeof b, "%.0f",
+                                 r.peak_bytes / (double)n);
+                    printf(" | %9s %7.0f %4s %4d%s", t,
+                           r.median_ms * 1e6 / (double)n, b, r.runs,
+                           r.check_ok == 0 ? "!" : "");
+                    counts[ai][0] = r.vertices;
+                    counts[ai][1] = r.edges;
+                    if (have_counts && (counts[ai][0] != counts[0][0] ||
+                                        counts[ai][1] != counts[0][1]))
+                        differ = 1;
+                    if (ai == 0)
+                        have_counts = 1;
+                }
+                fflush(stdout);
+                if (r.check_ok == 0) {
+                    fprintf(stderr, "%s %s n=%zu: vor_check: %s\n", an[ai],
+                            dn[di], n, r.msg);
+                    bad = 1;
+                }
+                if (csv) {
+                    fprintf(csv, "%s,%s,%zu,%zu,%d,%.6f,%.6f,%.2f,", an[ai],
+                            dn[di], n, r.distinct, r.runs, r.median_ms,
+                            r.min_ms,
+                            r.status == VOR_OK ? r.median_ms * 1e6 / (double)n
+                                               : 0.0);
+                    if (r.peak_bytes >= 0)
+                        fprintf(csv, "%.1f", r.peak_bytes / (double)n);
+                    fprintf(csv, ",%zu,%zu,%s,%s\n", r.vertices, r.edges,
+                            r.check_ok < 0   ? "-"
+                            : r.check_ok > 0 ? "ok"
+                                             : "FAILED",
+                            status_text(&r));
+                    fflush(csv);
+                }
+            }
+            printf("%s\n", differ ? "  <- algorithms' counts differ" : "");
+            if (differ)
+                bad = 1;
+        }
+    }
+    if (csv && fclose(csv) != 0) {
+        perror(o->csv);
+        return 2;
+    }
+    printf("\n('!' after runs: vor_check rejected the diagram; checked up to "
+           "n = %zu)\n",
+           o->check_max);
+    return bad;
+}
+
+/* ---- points, json ------------------------------------------------------------ */
+
+static int cmd_points(const opts *o, int json) {
+    if (!o->dist || !o->out || o->n == 0) {
+        usage();
+        return 2;
+    }
+    double *xy = generate(o->dist, o->n, o->seed);
+    if (!xy)
+        return 2;
+    int rc;
+    if (!json) {
+        rc = bu_write_file(o->out, xy, o->n * 16);
+    } else {
+        FILE *f = fopen(o->out, "w");
+        rc = -1;
+        if (f) {
+            fprintf(f, "{\"algorithm\":\"%s\",\"points\":[", o->algo);
+            for (size_t i = 0; i < o->n; i++)
+                fprintf(f, "%s[%.17g,%.17g]", i ? "," : "", xy[2 * i],
+                        xy[2 * i + 1]);
+            fputs("]}\n", f);
+            rc = fclose(f) == 0 ? 0 : -1;
+        }
+        if (rc)
+            perror(o->out);
+    }
+    free(xy);
+    return rc ? 2 : 0;
+}
+
+/* ---- ours --------------------------------------------------------------------- */
+
+static int cmd_ours(const opts *o) {
+    vor_algorithm algo;
+    size_t n = 0;
+    if (!o->points || vor_algorithm_parse(o->algo, &algo) != VOR_OK) {
+        usage();
+        return 2;
+    }
+    double *xy = bu_read_points(o->points, &n);
+    if (!xy)
+        return 2;
+    vor_sites *sites = NULL;
+    vor_status st = vor_sites_new(xy, n, &sites, NULL);
+    free(xy);
+    if (st != VOR_OK) {
+        printf("RESULT name=%s n=%zu status=%s\n", o->algo, n,
+               vor_status_name(st));
+        return 1;
+    }
+    result r;
+    vor_diagram *d = NULL;
+    memset(&r, 0, sizeof r);
+    time_compute(sites, algo, 1, 0, o->runs, o->runs, &r, &d);
+    if (r.status != VOR_OK) {
+        printf("RESULT name=%s n=%zu status=%s\n", o->algo, n,
+               vor_status_name(r.status));
+        vor_sites_free(sites);
+        return 1;
+    }
+    uint32_t *tri = NULL;
+    size_t nt = 0;
+    st = vor_diagram_triangles(d, sites, &tri, &nt);
+    if (st == VOR_OK && o->tris && bu_write_file(o->tris, tri, nt * 12) != 0)
+        st = VOR_EINVAL;
+    printf("RESULT name=%s n=%zu ms=%.3f min_ms=%.3f runs=%d peak_bpp=%.1f "
+           "vertices=%zu triangles=%zu status=%s\n",
+           o->algo, n, r.median_ms, r.min_ms, r.runs,
+           r.peak_bytes >= 0 ? r.peak_bytes / (double)n : -1.0, r.vertices,
+           nt, vor_status_name(st));
+    free(tri);
+    vor_diagram_free(d);
+    vor_sites_free(sites);
+    return st == VOR_OK ? 0 : 1;
+}
+
+/* ---- check ---------------------------------------------------------------------- */
+
+static const double *g_xy; /* for the qsort comparators below */
+
+static int cmp_lex(const void *a, const void *b) {
+    const double *p = g_xy + 2 * *(const uint32_t *)a;
+    const double *q = g_xy + 2 * *(const uint32_t *)b;
+    if (p[0] != q[0])
+        return p[0] < q[0] ? -1 : 1;
+    return (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+static const uint64_t *g_key; /* half-edge keys, for cmp_by_key */
+
+static int cmp_by_key(const void *a, const void *b) {
+    uint64_t x = g_key[*(const uint32_t *)a], y = g_key[*(const uint32_t *)b];
+    return (x > y) - (x < y);
+}
+
+/* Number of points on the boundary of the convex hull (vertices and points
+ * inside hull edges), by Andrew's monotone chain that pops only on strict
+ * right turns; -1 on allocation failure, -2 if two points are equal. */
+static long hull_boundary(const double *xy, size_t n) {
+    uint32_t *idx = malloc(sizeof *idx * n), *h = malloc(sizeof *h * 2 * n);
+    long count = -1;
+    if (!idx || !h)
+        goto out;
+    for (size_t i = 0; i < n; i++)
+        idx[i] = (uint32_t)i;
+    g_xy = xy;
+    qsort(idx, n, sizeof *idx, cmp_lex);
+    for (size_t i = 1; i < n; i++)
+        if (cmp_lex(&idx[i - 1], &idx[i]) == 0) {
+            count = -2;
+            goto out;
+        }
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) { /* lower chain */
+        while (k >= 2 && vor_orient2d(xy + 2 * h[k - 2], xy + 2 * h[k - 1],
+                                      xy + 2 * idx[i]) < 0)
+            k--;
+        h[k++] = idx[i];
+    }
+    size_t lower = k;
+    for (size_t i = n - 1; i-- > 0;) { /* upper chain */
+        while (k >= lower + 1 &&
+               vor_orient2d(xy + 2 * h[k - 2], xy + 2 * h[k - 1],
+                            xy + 2 * idx[i]) < 0)
+            k--;
+        h[k++] = idx[i];
+    }
+    count = (long)k - 1; /* the first point closes the chain */
+out:
+    free(idx);
+    free(h);
+    return count;
+}
+
+static uint32_t uf_find(uint32_t *p, uint32_t x) {
+    while (p[x] != x) {
+        p[x] = p[p[x]];
+        x = p[x];
+    }
+    return x;
+}
+
+/* Index in by_key (half-edge ids sorted by key) of the first half-edge with
+ * the given key, or m if there is none. */
+static size_t find_key(const uint64_t *key, const uint32_t *by_key, size_t m,
+                       uint64_t k) {
+    size_t lo = 0, hi = m;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (key[by_key[mid]] < k)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < m && key[by_key[lo]] == k ? lo : m;
+}
+
+static int cmd_check(const opts *o) {
+    size_t n = 0, len = 0;
+    if (!o->points || !o->tris) {
+        usage();
+        return 2;
+    }
+    double *xy = bu_read_points(o->points, &n);
+    uint32_t *t = xy ? bu_read_file(o->tris, &len) : NULL;
+    if (!xy || !t || len % 12 != 0) {
+        if (t)
+            fprintf(stderr, "%s: size is not a multiple of 12\n", o->tris);
+        free(xy);
+        free(t);
+        return 2;
+    }
+    size_t nt = len / 12, m = 3 * nt, bad_index = 0, bad_orient = 0,
+           bad_edges = 0, bad_delaunay = 0, unused = 0, vertices = 0,
+           boundary = 0;
+    /* Half-edge e = 3i + k goes from t[e] to t[3i + (k+1)%3]; its key packs
+     * (from, to) so that sorting ids by key lets the twin (to, from) be found
+     * by binary search. */
+    uint64_t *key = malloc(sizeof *key * (m ? m : 1));
+    uint32_t *by_key = malloc(sizeof *by_key * (m ? m : 1));
+    uint32_t *uf = malloc(sizeof *uf * (nt ? nt : 1));
+    uint8_t *used = calloc(n ? n : 1, 1);
+    long h = hull_boundary(xy, n);
+    if (!key || !by_key || !uf || !used || h == -1) {
+        fputs("check: out of memory\n", stderr);
+        return 2;
+    }
+    for (size_t i = 0; i < nt; i++) {
+        uint32_t *v = t + 3 * i;
+        uf[i] = (uint32_t)i;
+        if (v[0] >= n || v[1] >= n || v[2] >= n) {
+            bad_index++;
+            v[0] = v[1] = v[2] = 0;
+        } else if (vor_orient2d(xy + 2 * v[0], xy + 2 * v[1],
+                                xy + 2 * v[2]) <= 0) {
+            bad_orient++;
+        }
+        for (int k = 0; k < 3; k++) {
+            used[v[k]] = 1;
+            key[3 * i + k] = (uint64_t)v[k] << 32 | v[(k + 1) % 3];
+            by_key[3 * i + k] = (uint32_t)(3 * i + k);
+        }
+    }
+    g_key = key;
+    qsort(by_key, m, sizeof *by_key, cmp_by_key);
+    for (size_t i = 1; i < m; i++)
+        if (key[by_key[i]] == key[by_key[i - 1]])
+            bad_edges++; /* the same directed edge in two triangles */
+    for (size_t e = 0; e < m; e++) {
+        uint32_t from = (uint32_t)(key[e] >> 32), to = (uint32_t)key[e];
+        size_t j = find_key(key, by_key, m, (uint64_t)to << 32 | from);
+        if (j == m) {
+            boundary++;
+            continue;
+        }
+        size_t f = by_key[j];
+        if (f < e)
+            continue; /* each interior edge once */
+        uint32_t c = t[3 * (e / 3) + (e % 3 + 2) % 3]; /* apex of e */
+        uint32_t d = t[3 * (f / 3) + (f % 3 + 2) % 3]; /* apex across */
+        int s = vor_incircle(xy + 2 * from, xy + 2 * to, xy + 2 * c,
+                             xy + 2 * d);
+        if (s > 0) {
+            bad_delaunay++;
+        } else if (s == 0) { /* same circumcircle: one Voronoi vertex */
+            uint32_t x = uf_find(uf, (uint32_t)(e / 3)),
+                     y = uf_find(uf, (uint32_t)(f / 3));
+            if (x != y)
+                uf[x] = y;
+        }
+    }
+    for (size_t i = 0; i < n; i++)
+        unused += !used[i];
+    for (size_t i = 0; i < nt; i++)
+        vertices += uf_find(uf, (uint32_t)i) == i;
+    long expected = h >= 0 ? 2 * (long)n - 2 - h : -1;
+    int ok = bad_index == 0 && bad_orient == 0 && bad_edges == 0 &&
+             bad_delaunay == 0 && unused == 0 && h >= 0 &&
+             (long)nt == expected && (long)boundary == h;
+    printf("RESULT check=%s n=%zu triangles=%zu expected=%ld hull=%ld "
+           "boundary_edges=%zu bad_index=%zu bad_orient=%zu bad_edges=%zu "
+           "bad_delaunay=%zu unused=%zu voronoi_vertices=%zu\n",
+           ok ? "ok" : "WRONG", n, nt, expected, h, boundary, bad_index,
+           bad_orient, bad_edges, bad_delaunay, unused, vertices);
+    free(xy);
+    free(t);
+    free(key);
+    free(by_key);
+    free(uf);
+    free(used);
+    return ok ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
+    opts o;
+    if (argc < 2 || parse_opts(argc, argv, &o) != 0) {
+        usage();
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "table"))
+        return cmd_table(&o);
+    if (!strcmp(cmd, "points"))
+        return cmd_points(&o, 0);
+    if (!strcmp(cmd, "json"))
+        return cmd_points(&o, 1);
+    if (!strcmp(cmd, "ours"))
+        return cmd_ours(&o);
+    if (!strcmp(cmd, "check"))
+        return cmd_check(&o);
+    usage();
+    return 2;
+}
