@@ -22,7 +22,7 @@
     X(SRV_ROUTE_HEALTHZ, "/healthz", SRV_M_GET | SRV_M_HEAD)       \
     X(SRV_ROUTE_READYZ, "/readyz", SRV_M_GET | SRV_M_HEAD)         \
     X(SRV_ROUTE_METRICS, "/metrics", SRV_M_GET | SRV_M_HEAD)       \
-    X(SRV_ROUTE_ASSET, "/{asset}", SRV_M_GET | SRV_M_HEAD)         \
+    X(SRV_ROUTE_ASSET, "asset", SRV_M_GET | SRV_M_HEAD)            \
     X(SRV_ROUTE_OTHER, "other", 0)
 
 /* Methods as bits. OPTIONS is allowed on every route that exists. */
