@@ -64,16 +64,26 @@
     const MIN_ZOOM_OUT = 1e-4;
     const CLICK_SLOP = 4;       /* CSS px a press may move and still be a click */
     const CLICK_RECOMPUTE_LIMIT = 200000;
+    /* Paths with more segments than this are stroked as hairlines. */
+    const HAIRLINE_ABOVE = 20000;
+    /* More sites than this are drawn as pixels, not discs. */
+    const DOTS_AS_PIXELS = 5000;
+    /* Above this many points the page asks for the binary answer. */
+    const BINARY_ABOVE = 20000;
+    const LITTLE_ENDIAN = new Uint8Array(new Uint32Array([1]).buffer)[0] === 1;
 
     const $ = (id) => document.getElementById(id);
 
     /* ---- state mirrored for tests and the console ------------------------ */
     const pub = {
-        lastResult: null,     /* parsed JSON of the last POST voronoi */
+        lastResult: null,     /* counts of the last diagram (see summary()) */
+        diagram: null,        /* the last diagram record itself */
         lastError: null,      /* {status, title, detail, pointer, line} */
         lastCompare: null,    /* normalised compare answer */
         lastSweep: null,      /* {distribution, seed, rows, done} */
         timings: null,        /* {server_ms, roundtrip_ms, draw_ms, phases} */
+        frameMs: 0,           /* script time of the last frame */
+        framePaintMs: 0,      /* the last pan/zoom frame until painted */
         edgesDrawn: 0,        /* edges stroked in the last frame */
         raysDrawn: 0,         /* of which rays and lines */
         sitesDrawn: 0,
@@ -117,6 +127,7 @@
     function fmtMs(ms) {
         if (ms == null || !isFinite(ms)) return '–';
         if (ms >= 10000) return (ms / 1000).toFixed(1) + ' s';
+        if (ms >= 1000) return (ms / 1000).toFixed(2) + ' s';
         if (ms >= 100) return ms.toFixed(0) + ' ms';
         if (ms >= 10) return ms.toFixed(1) + ' ms';
         if (ms >= 1) return ms.toFixed(2) + ' ms';
@@ -233,18 +244,13 @@
 
     /* ---- requests --------------------------------------------------------- */
 
-    /* The clip box from the form: null when not clipping; throws a
-     * ServiceError-like message when the text is not four numbers. */
+    /* The clip box from the form: null when not clipping or when the field
+     * is empty (the service then clips to a margin around the sites);
+     * throws a ServiceError when the text is not four numbers. */
     function clipBounds() {
         if (!$('show-clip').checked) return null;
-        let text = $('bounds').value.trim();
-        if (text === '' && geom && geom.siteBox) {
-            const b = geom.siteBox, mx = (b[2] - b[0]) * 0.05 || 1, my = (b[3] - b[1]) * 0.05 || 1;
-            const box = [b[0] - mx, b[1] - my, b[2] + mx, b[3] + my];
-            const tol = Math.max(b[2] - b[0], b[3] - b[1], 1e-300) * 1e-4;
-            text = box.map((v) => roundTo(v, tol)).map((v) => +v.toPrecision(12)).join(', ');
-            $('bounds').value = text;
-        }
+        const text = $('bounds').value.trim();
+        if (text === '') return null; /* the service picks a box around the sites */
         const parts = text.split(/[\s,;]+/).filter(Boolean).map(Number);
         if (parts.length !== 4 || !parts.every(isFinite)) {
             throw new ServiceError({
@@ -286,7 +292,8 @@
             init.headers['Content-Type'] = 'application/json';
             init.body = JSON.stringify(body);
         }
-        if (opt.format === 'svg') init.headers.Accept = 'image/svg+xml';
+        if (opt.format === 'binary') init.headers.Accept = 'application/octet-stream';
+        else if (opt.format === 'svg') init.headers.Accept = 'image/svg+xml';
         else if (opt.format === 'geojson') init.headers.Accept = 'application/geo+json';
         else init.headers.Accept = 'application/json';
         return { url: url.toString(), init: init };
@@ -313,6 +320,7 @@
         }
         const out = { resp: resp };
         if (opt.blob) out.blob = await resp.blob();
+        else if (opt.buffer) out.buffer = await resp.arrayBuffer();
         else out.text = await resp.text();
         out.ms = performance.now() - t0;
         return out;
@@ -357,24 +365,41 @@
         const alg = selectedAlgorithm();
         setBusy(true, 'Computing with ' + ALGO_LABEL[alg] + '…');
         try {
-            const r = await send('voronoi', { include: includeParts(), signal: abort.signal });
+            /* large answers come as binary arrays: no text to parse */
+            const binary = LITTLE_ENDIAN && expectedPoints(source) > BINARY_ABOVE;
+            const r = await send('voronoi', {
+                include: includeParts(), format: binary ? 'binary' : 'json',
+                buffer: binary, signal: abort.signal,
+            });
             const tp = performance.now();
-            let res;
-            try {
-                res = JSON.parse(r.text);
-            } catch (e) {
-                throw new ServiceError({ title: 'Unreadable answer', detail: 'The service sent JSON the page cannot parse: ' + e.message });
+            let D;
+            if (binary) {
+                D = fromBinary(r.buffer);
+            } else {
+                let res;
+                try {
+                    res = JSON.parse(r.text);
+                } catch (e) {
+                    throw unreadable('is not JSON the page can parse (' + e.message + ')');
+                }
+                D = fromJson(res);
             }
             const roundtrip = r.ms + (performance.now() - tp);
             if (abort !== computeAbort) return;
             const td = performance.now();
-            setResult(res);
+            setResult(D);
             drawNow();
-            const drawMs = performance.now() - td;
             const phases = parseServerTiming(r.resp.headers.get('server-timing'));
-            showTimings(res, roundtrip, drawMs, phases);
-            pub.computeCount++;
-            setStatus(ALGO_LABEL[res.algorithm] ? ALGO_LABEL[res.algorithm] + ': ' + fmtInt(siteCount(res)) + ' sites, computed in ' + fmtMs(timingOf(res, 'compute')) : 'Done');
+            showTimings(D, roundtrip, performance.now() - td, phases);
+            const count = ++pub.computeCount;
+            afterPaint(() => {
+                if (count !== pub.computeCount) return;
+                const drawMs = performance.now() - td;
+                $('t-draw').textContent = fmtMs(drawMs);
+                pub.timings.draw_ms = drawMs;
+            });
+            setStatus((ALGO_LABEL[D.algorithm] || D.algorithm) + ': ' + fmtInt(D.nSites) + ' sites, computed in ' +
+                fmtMs(timingOf(D, 'compute')));
         } catch (e) {
             if (isAbort(e)) return;
             showError(e);
@@ -393,9 +418,18 @@
         return t[name] != null ? t[name] : null;
     }
 
-    function siteCount(res) {
-        if (res.n_sites != null) return res.n_sites;
-        return res.sites ? res.sites.length : 0;
+    /* How many points a source will send, as far as the page can tell
+     * before asking (a raw file is estimated from its size). */
+    function expectedPoints(src) {
+        if (src.kind === 'generate') return genParams().n;
+        if (src.kind === 'gen') return src.generate.n;
+        if (src.kind === 'points') return src.points.length;
+        if (src.kind === 'json') {
+            const o = src.obj;
+            if (Array.isArray(o.points)) return o.points.length;
+            return o.generate ? Number(o.generate.n) || 0 : 0;
+        }
+        return src.type === 'application/octet-stream' ? src.size / 16 : src.size / 12;
     }
 
     function showTimings(res, roundtrip, drawMs, phases) {
@@ -445,71 +479,221 @@
         if (total) {
             item('server total', total.dur, null);
             item('network + page', Math.max(0, roundtrip - total.dur), null);
-            ul.lastChild.title = 'Round trip less the server total: transfer, JSON parsing in the page';
+            ul.lastChild.title = 'Round trip less the server total: transfer and decoding in the page';
         }
         box.appendChild(ul);
         pub.timings = { server_ms: server, roundtrip_ms: roundtrip, draw_ms: drawMs, phases: list };
 
-        const nIn = res.n_input != null ? res.n_input : siteCount(res);
-        const dups = Array.isArray(res.duplicates) ? res.duplicates.length : (nIn - siteCount(res));
-        const bits = [fmtInt(nIn) + ' points', fmtInt(siteCount(res)) + ' sites'];
-        if (dups > 0) bits.push(fmtInt(dups) + ' duplicates');
+        const bits = [fmtInt(res.nInput) + ' points', fmtInt(res.nSites) + ' sites'];
+        if (res.dups.length) bits.push(fmtInt(res.dups.length) + ' duplicates');
         if (geom) {
             bits.push(fmtInt(geom.nVertices) + ' vertices', fmtInt(geom.nEdges) + ' edges');
             if (geom.nTriangles) bits.push(fmtInt(geom.nTriangles) + ' triangles');
         }
+        if (res.format === 'binary') bits.push('binary answer');
         $('counts').textContent = bits.join(' · ');
     }
 
-    /* ---- result -> drawable geometry -------------------------------------- */
+    /* ---- answers -> one diagram representation ---------------------------- */
 
-    function pairAt(arr, i) {
-        const p = arr[i];
-        return Array.isArray(p) ? p : null;
+    /* Both decoders return the same plain record of typed arrays:
+     *   algorithm, format ('json' | 'binary'), nInput, nSites, nVertices,
+     *   nEdges, nTriangles, timings {name_ms: ...},
+     *   xy       Float64Array(2 nInput)  every input point (duplicates too)
+     *   dups     [[input, first input], ...]
+     *   vxy      Float64Array(2 nVertices) (NaN where a vertex overflowed)
+     *   ends     Int32Array(2 nEdges)    vertex index or -1
+     *   esites   Int32Array(2 nEdges)    the two sites, as input indices
+     *   rayEdge  Int32Array(nRays), rayDir Float64Array(2 nRays)
+     *   tri      Uint32Array(3 nTriangles) input indices, or null
+     *   clip     {box, start: Uint32Array(nSites + 1), xy: Float64Array} or null
+     * The page draws only from this record, so the JSON and the binary
+     * answers are drawn by the same code. */
+
+    function unreadable(why) {
+        return new ServiceError({ title: 'Unreadable answer', detail: 'The diagram sent by the service ' + why + '.' });
     }
 
-    /* Reads the clipped part of an answer, whichever of the shapes the codec
-     * uses: {box, cells: [[[x,y]...]...]} or {box, polygons: ...}. */
-    function clippedPolygons(res) {
-        const c = res.clipped;
-        if (!c || typeof c !== 'object') return { box: null, polys: [] };
-        const box = Array.isArray(c.box) ? c.box : (Array.isArray(c.bounds) ? c.bounds : null);
-        let polys = c.cells || c.polygons || [];
-        if (!Array.isArray(polys)) polys = [];
-        polys = polys.map((p) => (p && !Array.isArray(p) && Array.isArray(p.polygon)) ? p.polygon : p);
-        return { box: box, polys: polys };
-    }
-
-    /* Builds geom from a result: model frame, cached paths, ray list. Keeps
-     * the view where it was in world terms unless fitNext is set. A preview
-     * (a clicked point before its diagram arrives) is drawn but not
-     * published as the last result. */
-    function setResult(res, preview) {
-        if (!preview) pub.lastResult = res;
+    /* The JSON document (openapi.yaml, Diagram): "sites" per input point,
+     * site numbers are input indices, "clipped": {bounds, edges, cells}. */
+    function fromJson(res) {
+        if (!res || typeof res !== 'object') throw unreadable('is not a JSON object');
         const sites = Array.isArray(res.sites) ? res.sites : [];
         const verts = Array.isArray(res.vertices) ? res.vertices : [];
         const edges = Array.isArray(res.edges) ? res.edges : [];
+        const nIn = sites.length, nv = verts.length, ne = edges.length;
+        const xy = new Float64Array(2 * nIn);
+        for (let i = 0; i < nIn; i++) {
+            const p = sites[i];
+            xy[2 * i] = p ? +p[0] : NaN;
+            xy[2 * i + 1] = p ? +p[1] : NaN;
+        }
+        const vxy = new Float64Array(2 * nv);
+        for (let i = 0; i < nv; i++) {
+            const p = verts[i];
+            vxy[2 * i] = p && p[0] != null ? +p[0] : NaN;
+            vxy[2 * i + 1] = p && p[1] != null ? +p[1] : NaN;
+        }
+        const ends = new Int32Array(2 * ne), esites = new Int32Array(2 * ne);
+        const rayEdge = [], rayDir = [];
+        for (let e = 0; e < ne; e++) {
+            const ed = edges[e];
+            const en = ed && Array.isArray(ed.ends) ? ed.ends : [null, null];
+            const st = ed && Array.isArray(ed.sites) ? ed.sites : [0, 0];
+            ends[2 * e] = en[0] == null ? -1 : en[0];
+            ends[2 * e + 1] = en[1] == null ? -1 : en[1];
+            esites[2 * e] = st[0];
+            esites[2 * e + 1] = st[1];
+            if (Array.isArray(ed.ray)) {
+                rayEdge.push(e);
+                rayDir.push(+ed.ray[0], +ed.ray[1]);
+            }
+        }
+        let tri = null;
+        if (Array.isArray(res.triangles)) {
+            tri = new Uint32Array(3 * res.triangles.length);
+            res.triangles.forEach((t, i) => tri.set(t, 3 * i));
+        }
+        let clip = null;
+        const c = res.clipped;
+        if (c && typeof c === 'object' && Array.isArray(c.cells)) {
+            const start = new Uint32Array(c.cells.length + 1);
+            let n = 0;
+            c.cells.forEach((poly, i) => {
+                n += Array.isArray(poly) ? poly.length : 0;
+                start[i + 1] = n;
+            });
+            const cxy = new Float64Array(2 * n);
+            c.cells.forEach((poly, i) => {
+                if (!Array.isArray(poly)) return;
+                poly.forEach((q, j) => {
+                    cxy[2 * (start[i] + j)] = q[0];
+                    cxy[2 * (start[i] + j) + 1] = q[1];
+                });
+            });
+            clip = { box: c.bounds || c.box || null, start: start, xy: cxy };
+        }
+        return {
+            format: 'json',
+            algorithm: res.algorithm,
+            nInput: res.n_input != null ? res.n_input : nIn,
+            nSites: res.n_sites != null ? res.n_sites : nIn,
+            nVertices: res.n_vertices != null ? res.n_vertices : nv,
+            nEdges: res.n_edges != null ? res.n_edges : ne,
+            nTriangles: tri ? tri.length / 3 : 0,
+            timings: res.timings || null,
+            xy: xy,
+            dups: Array.isArray(res.duplicates) ? res.duplicates : [],
+            vxy: vxy, ends: ends, esites: esites,
+            rayEdge: Int32Array.from(rayEdge), rayDir: Float64Array.from(rayDir),
+            tri: tri, clip: clip,
+        };
+    }
 
+    /* The binary answer (openapi.yaml, BinaryDiagram): a 48-byte header
+     * ("VORB", version 1, algorithm, flags, counts) and little-endian
+     * sections, each padded to 8 bytes, read in place through typed array
+     * views (the page asks for it only on little-endian hosts). */
+    function fromBinary(buf) {
+        if (buf.byteLength < 48) throw unreadable('is too short to be binary');
+        const magic = String.fromCharCode.apply(null, new Uint8Array(buf, 0, 4));
+        const h = new Uint32Array(buf, 0, 12);
+        if (magic !== 'VORB' || h[1] !== 1) throw unreadable('is not version 1 of the binary format');
+        const flags = h[3], nIn = h[4], ns = h[5], nv = h[6], ne = h[7], nr = h[8], nt = h[9], ncp = h[10];
+        let off = 48;
+        const take = (Type, count) => {
+            const bytes = count * Type.BYTES_PER_ELEMENT;
+            if (off + bytes > buf.byteLength) throw unreadable('ends early');
+            const a = new Type(buf, off, count);
+            off = (off + bytes + 7) & ~7;
+            return a;
+        };
+        const siteInput = take(Uint32Array, ns);
+        const inputSite = take(Uint32Array, nIn);
+        const sxy = take(Float64Array, 2 * ns);
+        const vxy = take(Float64Array, 2 * nv);
+        const edges = take(Int32Array, 4 * ne);
+        const rayEdge = take(Int32Array, nr);
+        const rayDir = take(Float64Array, 2 * nr);
+        take(Uint32Array, ns + 1);      /* cell_start */
+        take(Uint32Array, 2 * ne);      /* cell_edges */
+        take(Uint8Array, ns);           /* cell_bounded */
+        const tri = flags & 1 ? take(Uint32Array, 3 * nt) : null;
+        let clip = null;
+        if (flags & 2) {
+            const box = Array.from(take(Float64Array, 4));
+            take(Float64Array, 4 * ne); /* clipped edges */
+            clip = { box: box, start: take(Uint32Array, ns + 1), xy: take(Float64Array, 2 * ncp) };
+        }
+        const tv = take(Float64Array, 7);
+        const names = ['queue', 'parse', 'prepare', 'compute', 'clip', 'serialize', 'total'];
+        const timings = {};
+        names.forEach((n, i) => { timings[n + '_ms'] = tv[i]; });
+        const xy = new Float64Array(2 * nIn);
+        const dups = [];
+        for (let i = 0; i < nIn; i++) {
+            const site = inputSite[i];
+            xy[2 * i] = sxy[2 * site];
+            xy[2 * i + 1] = sxy[2 * site + 1];
+            if (siteInput[site] !== i) dups.push([i, siteInput[site]]);
+        }
+        const ends = new Int32Array(2 * ne), esites = new Int32Array(2 * ne);
+        for (let e = 0; e < ne; e++) {
+            esites[2 * e] = edges[4 * e];
+            esites[2 * e + 1] = edges[4 * e + 1];
+            ends[2 * e] = edges[4 * e + 2];
+            ends[2 * e + 1] = edges[4 * e + 3];
+        }
+        return {
+            format: 'binary',
+            algorithm: ALGORITHMS[h[2]] || String(h[2]),
+            nInput: nIn, nSites: ns, nVertices: nv, nEdges: ne, nTriangles: tri ? nt : 0,
+            timings: timings, xy: xy, dups: dups, vxy: vxy, ends: ends, esites: esites,
+            rayEdge: rayEdge, rayDir: rayDir, tri: tri, clip: clip,
+        };
+    }
+
+    /* What window.voronoid.lastResult shows of a diagram: counts, not the
+     * arrays (the diagram itself is in window.voronoid.diagram). */
+    function summary(D) {
+        return {
+            format: D.format,
+            algorithm: D.algorithm,
+            n_input: D.nInput,
+            n_sites: D.nSites,
+            n_vertices: D.nVertices,
+            n_edges: D.nEdges,
+            n_rays: D.rayEdge.length,
+            n_triangles: D.tri ? D.nTriangles : null,
+            duplicates: D.dups.slice(0, 1000),
+            n_duplicates: D.dups.length,
+            clipped: D.clip ? { bounds: D.clip.box, cells: D.clip.start.length - 1 } : null,
+            timings: D.timings,
+        };
+    }
+
+    /* Builds geom from a diagram record: model frame, cached paths, ray
+     * list. Keeps the view where it was in world terms unless fitNext is
+     * set. A preview (a clicked point before its diagram arrives) is drawn
+     * but not published as the last result. */
+    function setResult(D, preview) {
+        if (!preview) {
+            pub.diagram = D;
+            pub.lastResult = summary(D);
+        }
+        const nIn = D.nInput === D.xy.length / 2 ? D.nInput : D.xy.length / 2;
+        const xy = D.xy;
         let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
-        const ns = sites.length;
-        const sx = new Float64Array(ns), sy = new Float64Array(ns);
-        for (let i = 0; i < ns; i++) {
-            const p = pairAt(sites, i);
-            const x = p ? +p[0] : NaN, y = p ? +p[1] : NaN;
-            sx[i] = x; sy[i] = y;
+        for (let i = 0; i < nIn; i++) {
+            const x = xy[2 * i], y = xy[2 * i + 1];
             if (x < x0) x0 = x;
             if (x > x1) x1 = x;
             if (y < y0) y0 = y;
             if (y > y1) y1 = y;
         }
-        const clip = clippedPolygons(res);
-        let siteBox = ns ? [x0, y0, x1, y1] : null;
-        let ref = siteBox;
-        if (!ref && clip.box) ref = clip.box;
-        if (!ref && verts.length) {
-            const p = verts[0];
-            ref = [p[0], p[1], p[0], p[1]];
-        }
+        const box = D.clip && D.clip.box;
+        let ref = nIn ? [x0, y0, x1, y1] : null;
+        if (!ref && box) ref = box;
 
         /* keep the view's world centre and world scale across the change */
         const worldC = [view.mx / frame.k + frame.cx, view.my / frame.k + frame.cy];
@@ -527,80 +711,88 @@
         view.zoom = worldZoom / frame.k;
 
         const k = frame.k, cx = frame.cx, cy = frame.cy;
-        const mxs = new Float64Array(ns), mys = new Float64Array(ns);
-        for (let i = 0; i < ns; i++) {
-            mxs[i] = (sx[i] - cx) * k;
-            mys[i] = (sy[i] - cy) * k;
+        const mxs = new Float64Array(nIn), mys = new Float64Array(nIn);
+        for (let i = 0; i < nIn; i++) {
+            mxs[i] = (xy[2 * i] - cx) * k;
+            mys[i] = (xy[2 * i + 1] - cy) * k;
         }
-        const nv = verts.length;
-        const vx = new Float64Array(nv), vy = new Float64Array(nv);
-        for (let i = 0; i < nv; i++) {
-            const p = pairAt(verts, i);
-            vx[i] = p ? (p[0] - cx) * k : NaN;
-            vy[i] = p ? (p[1] - cy) * k : NaN;
+        /* every index in an answer is an input index; a duplicate is
+         * drawn once */
+        const dup = new Uint8Array(nIn);
+        for (const d of D.dups) {
+            if (d[0] >= 0 && d[0] < nIn) dup[d[0]] = 1;
         }
 
-        /* finite edges into one cached path; rays and lines into a list */
+        /* finite edges into one cached path */
+        const vxy = D.vxy, ends = D.ends;
         const segPath = new Path2D();
         let nSeg = 0;
+        const ne = ends.length / 2;
+        for (let e = 0; e < ne; e++) {
+            const a = ends[2 * e], b = ends[2 * e + 1];
+            if (a < 0 || b < 0) continue;
+            segPath.moveTo((vxy[2 * a] - cx) * k, (vxy[2 * a + 1] - cy) * k);
+            segPath.lineTo((vxy[2 * b] - cx) * k, (vxy[2 * b + 1] - cy) * k);
+            nSeg++;
+        }
+        /* rays leave their vertex; lines pass through the midpoint of
+         * their two sites (computed as the codec does) */
         const rays = [];
-        for (const e of edges) {
-            if (!e || !Array.isArray(e.ends)) continue;
-            const a = e.ends[0], b = e.ends[1];
-            if (a != null && b != null) {
-                segPath.moveTo(vx[a], vy[a]);
-                segPath.lineTo(vx[b], vy[b]);
-                nSeg++;
-            } else if (Array.isArray(e.ray)) {
-                const o = a != null ? a : b;
-                if (o != null) {
-                    /* a ray; if only the second end is known it points
-                     * from that end the way the codec says */
-                    rays.push({ ox: vx[o], oy: vy[o], dx: +e.ray[0], dy: +e.ray[1], line: false });
-                } else if (Array.isArray(e.point)) {
-                    rays.push({ ox: (e.point[0] - cx) * k, oy: (e.point[1] - cy) * k,
-                        dx: +e.ray[0], dy: +e.ray[1], line: true });
-                }
+        for (let r = 0; r < D.rayEdge.length; r++) {
+            const e = D.rayEdge[r];
+            const a = ends[2 * e];
+            const dx = D.rayDir[2 * r], dy = D.rayDir[2 * r + 1];
+            if (a >= 0) {
+                rays.push({ ox: (vxy[2 * a] - cx) * k, oy: (vxy[2 * a + 1] - cy) * k, dx: dx, dy: dy, line: false });
+            } else {
+                const p = D.esites[2 * e], q = D.esites[2 * e + 1];
+                let mx = (xy[2 * p] + xy[2 * q]) / 2, my = (xy[2 * p + 1] + xy[2 * q + 1]) / 2;
+                if (!isFinite(mx)) mx = xy[2 * p] / 2 + xy[2 * q] / 2;
+                if (!isFinite(my)) my = xy[2 * p + 1] / 2 + xy[2 * q + 1] / 2;
+                rays.push({ ox: (mx - cx) * k, oy: (my - cy) * k, dx: dx, dy: dy, line: true });
             }
         }
 
-        let triPath = null, nTri = 0;
-        if (Array.isArray(res.triangles) && res.triangles.length) {
+        let triPath = null;
+        if (D.tri && D.tri.length) {
             triPath = new Path2D();
-            for (const t of res.triangles) {
-                if (!Array.isArray(t)) continue;
-                triPath.moveTo(mxs[t[0]], mys[t[0]]);
-                triPath.lineTo(mxs[t[1]], mys[t[1]]);
-                triPath.lineTo(mxs[t[2]], mys[t[2]]);
+            const t = D.tri;
+            for (let i = 0; i + 2 < t.length; i += 3) {
+                triPath.moveTo(mxs[t[i]], mys[t[i]]);
+                triPath.lineTo(mxs[t[i + 1]], mys[t[i + 1]]);
+                triPath.lineTo(mxs[t[i + 2]], mys[t[i + 2]]);
                 triPath.closePath();
-                nTri++;
             }
         }
 
         /* clipped cells: a few colour buckets, one fill each */
         let cellPaths = null;
-        if (clip.polys.length) {
+        if (D.clip && D.clip.start.length > 1) {
+            const st = D.clip.start, cxy = D.clip.xy;
             cellPaths = COLOR.cells.map(() => new Path2D());
-            clip.polys.forEach((poly, i) => {
-                if (!Array.isArray(poly) || poly.length < 3) return;
-                const path = cellPaths[(i * 2654435761 >>> 0) % cellPaths.length];
-                path.moveTo((poly[0][0] - cx) * k, (poly[0][1] - cy) * k);
-                for (let j = 1; j < poly.length; j++) path.lineTo((poly[j][0] - cx) * k, (poly[j][1] - cy) * k);
+            for (let i = 0; i + 1 < st.length; i++) {
+                if (st[i + 1] - st[i] < 3) continue;
+                const path = cellPaths[(Math.imul(i, 2654435761) >>> 0) % cellPaths.length];
+                path.moveTo((cxy[2 * st[i]] - cx) * k, (cxy[2 * st[i] + 1] - cy) * k);
+                for (let j = st[i] + 1; j < st[i + 1]; j++) path.lineTo((cxy[2 * j] - cx) * k, (cxy[2 * j + 1] - cy) * k);
                 path.closePath();
-            });
+            }
         }
-        let clipBox = clip.box;
-        if (!clipBox && res.bounds && Array.isArray(res.bounds)) clipBox = res.bounds;
+        if (box && !$('bounds').value.trim()) {
+            const tol = Math.max(box[2] - box[0], box[3] - box[1]) * 1e-6;
+            $('bounds').placeholder = 'auto: ' + box.map((v) => +roundTo(v, tol).toPrecision(10)).join(', ');
+        }
 
         geom = {
-            ns: ns, mxs: mxs, mys: mys,
+            ns: nIn, mxs: mxs, mys: mys, dup: dup,
             segPath: segPath, nSeg: nSeg, rays: rays,
-            triPath: triPath, nTriangles: nTri,
+            triPath: triPath, nTriangles: D.tri ? D.nTriangles : 0,
             cellPaths: cellPaths,
-            clipBox: clipBox ? [(clipBox[0] - cx) * k, (clipBox[1] - cy) * k, (clipBox[2] - cx) * k, (clipBox[3] - cy) * k] : null,
-            nVertices: res.n_vertices != null ? res.n_vertices : nv,
-            nEdges: res.n_edges != null ? res.n_edges : edges.length,
-            siteBox: siteBox,
+            clipBox: box ? [(box[0] - cx) * k, (box[1] - cy) * k, (box[2] - cx) * k, (box[3] - cy) * k] : null,
+            nVertices: D.nVertices,
+            nEdges: D.nEdges,
+            /* model area the sites cover (their box), for dot sizes */
+            area: ref ? Math.max((ref[2] - ref[0]) * k * (ref[3] - ref[1]) * k, 1e-3) : 1,
         };
         if (fitNext) {
             fitView();
@@ -608,9 +800,22 @@
         }
     }
 
+    /* A diagram record of points alone (no answer yet). */
+    function pointsOnly(points) {
+        const xy = new Float64Array(2 * points.length);
+        points.forEach((p, i) => { xy[2 * i] = p[0]; xy[2 * i + 1] = p[1]; });
+        return {
+            format: 'none', algorithm: null, nInput: points.length, nSites: points.length,
+            nVertices: 0, nEdges: 0, nTriangles: 0, timings: null, xy: xy, dups: [],
+            vxy: new Float64Array(0), ends: new Int32Array(0), esites: new Int32Array(0),
+            rayEdge: new Int32Array(0), rayDir: new Float64Array(0), tri: null, clip: null,
+        };
+    }
+
     function clearResult() {
         geom = null;
         pub.lastResult = null;
+        pub.diagram = null;
         $('counts').textContent = '';
         drawNow();
     }
@@ -685,8 +890,17 @@
         drawPending = true;
         requestAnimationFrame(() => {
             drawPending = false;
+            const t = performance.now();
             drawNow();
+            afterPaint(() => { pub.framePaintMs = performance.now() - t; });
         });
+    }
+
+    /* Calls fn once the frame that shows what was just drawn has been
+     * produced: a canvas records its drawing and rasterises it with the
+     * frame, so timing the script alone would miss most of the cost. */
+    function afterPaint(fn) {
+        requestAnimationFrame(() => setTimeout(fn, 0));
     }
 
     function resizeCanvas() {
@@ -762,6 +976,69 @@
         ctx.restore();
     }
 
+    /* Sites as small discs, culled, one fill: for up to DOTS_AS_PIXELS. */
+    function drawSiteDiscs(z) {
+        const r = geom.ns <= 2000 ? 2.2 : 1.6;
+        const path = new Path2D();
+        const hw = cssW / 2, hh = cssH / 2;
+        let drawn = 0;
+        for (let i = 0; i < geom.ns; i++) {
+            if (geom.dup[i]) continue;
+            const x = hw + (geom.mxs[i] - view.mx) * z;
+            const y = hh - (geom.mys[i] - view.my) * z;
+            if (x < -r || y < -r || x > cssW + r || y > cssH + r) continue;
+            path.moveTo(x + r, y);
+            path.arc(x, y, r, 0, 2 * Math.PI);
+            drawn++;
+        }
+        ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+        ctx.fillStyle = COLOR.site;
+        ctx.fill(path);
+        return drawn;
+    }
+
+    /* Many sites: square dots written straight into a pixel buffer and
+     * composited in one drawImage, since 10^5 anti-aliased shapes cost
+     * the rasteriser far more than 10^5 stores. */
+    let dots = null;
+    function drawSitePixels(z) {
+        const W = canvas.width, H = canvas.height;
+        if (!dots || dots.canvas.width !== W || dots.canvas.height !== H) {
+            const c = document.createElement('canvas');
+            c.width = W;
+            c.height = H;
+            const g = c.getContext('2d');
+            const img = g.createImageData(W, H);
+            dots = { canvas: c, ctx: g, img: img, px: new Uint32Array(img.data.buffer) };
+        }
+        const px = dots.px;
+        px.fill(0);
+        const rgb = parseInt(COLOR.site.slice(1), 16);
+        const colour = LITTLE_ENDIAN
+            ? (0xff000000 | ((rgb & 0xff) << 16) | (rgb & 0xff00) | (rgb >>> 16)) >>> 0
+            : ((rgb << 8) | 0xff) >>> 0;
+        /* dense: one pixel per site, or the dots merge into a carpet */
+        const density = geom.ns / (geom.area * z * z);
+        const size = (density > 0.04 ? 1 : 2) + (dpr >= 2 ? 1 : 0);
+        const s = z * dpr, ox = W / 2 - view.mx * s, oy = H / 2 + view.my * s;
+        let drawn = 0;
+        for (let i = 0; i < geom.ns; i++) {
+            if (geom.dup[i]) continue;
+            const x = Math.round(ox + geom.mxs[i] * s - size / 2);
+            const y = Math.round(oy - geom.mys[i] * s - size / 2);
+            if (x < 0 || y < 0 || x > W - size || y > H - size) continue;
+            for (let dy = 0; dy < size; dy++) {
+                const row = (y + dy) * W + x;
+                for (let dx = 0; dx < size; dx++) px[row + dx] = colour;
+            }
+            drawn++;
+        }
+        dots.ctx.putImageData(dots.img, 0, 0);
+        ctx.setTransform(1, 0, 0, 1, 0, 0);
+        ctx.drawImage(dots.canvas, 0, 0);
+        return drawn;
+    }
+
     function drawNow() {
         const t0 = performance.now();
         ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
@@ -781,15 +1058,19 @@
                     ctx.fill(p);
                 });
             }
+            /* A stroke of one device pixel is rasterised as a hairline,
+             * tens of times faster than a wider one on a path of 10^5
+             * segments; small diagrams get the slightly bolder line. */
+            const hairline = 1 / (z * dpr);
             if ($('show-delaunay').checked && geom.triPath) {
                 ctx.strokeStyle = COLOR.delaunay;
-                ctx.lineWidth = 0.8 / z;
+                ctx.lineWidth = geom.nTriangles > HAIRLINE_ABOVE ? hairline : 0.8 / z;
                 ctx.stroke(geom.triPath);
                 trisDrawn = geom.nTriangles;
             }
             if ($('show-edges').checked) {
                 ctx.strokeStyle = COLOR.edge;
-                ctx.lineWidth = 1.15 / z;
+                ctx.lineWidth = geom.nSeg > HAIRLINE_ABOVE ? hairline : 1.15 / z;
                 ctx.lineJoin = 'round';
                 ctx.stroke(geom.segPath);
                 edgesDrawn = geom.nSeg;
@@ -826,25 +1107,7 @@
                 ctx.restore();
             }
             if ($('show-sites').checked && geom.ns) {
-                /* sites in CSS px, culled, one fill */
-                const big = geom.ns <= 5000;
-                const r = big ? 2.2 : (geom.ns <= 30000 ? 1.3 : 0.9);
-                const path = new Path2D();
-                const hw = cssW / 2, hh = cssH / 2;
-                for (let i = 0; i < geom.ns; i++) {
-                    const x = hw + (geom.mxs[i] - view.mx) * z;
-                    const y = hh - (geom.mys[i] - view.my) * z;
-                    if (x < -r || y < -r || x > cssW + r || y > cssH + r) continue;
-                    if (big) {
-                        path.moveTo(x + r, y);
-                        path.arc(x, y, r, 0, 2 * Math.PI);
-                    } else {
-                        path.rect(x - r, y - r, 2 * r, 2 * r);
-                    }
-                    sitesDrawn++;
-                }
-                ctx.fillStyle = COLOR.site;
-                ctx.fill(path);
+                sitesDrawn = geom.ns <= DOTS_AS_PIXELS ? drawSiteDiscs(z) : drawSitePixels(z);
             }
         }
         pub.edgesDrawn = edgesDrawn;
@@ -944,20 +1207,24 @@
         const tol = 1 / (view.zoom * frame.k);
         const p = [roundTo(w[0], tol), roundTo(w[1], tol)].map((v) => +v.toPrecision(15));
         if (source.kind !== 'points') {
-            const base = pub.lastResult && Array.isArray(pub.lastResult.sites) ? pub.lastResult.sites.slice() : [];
+            const base = [];
+            const D = pub.diagram;
+            if (D) {
+                for (let i = 0; i < D.xy.length / 2; i++) base.push([D.xy[2 * i], D.xy[2 * i + 1]]);
+            }
             setSource({ kind: 'points', points: base, label: 'edited points' }, false);
         }
         source.points.push(p);
         describeSource();
         /* show the point at once; the diagram follows */
-        if (!geom) setResult({ sites: [p], vertices: [], edges: [] }, true);
+        if (!geom) setResult(pointsOnly([p]), true);
         else {
             const ns = geom.ns + 1;
-            const mxs = new Float64Array(ns), mys = new Float64Array(ns);
-            mxs.set(geom.mxs); mys.set(geom.mys);
+            const mxs = new Float64Array(ns), mys = new Float64Array(ns), dup = new Uint8Array(ns);
+            mxs.set(geom.mxs); mys.set(geom.mys); dup.set(geom.dup);
             mxs[ns - 1] = (p[0] - frame.cx) * frame.k;
             mys[ns - 1] = (p[1] - frame.cy) * frame.k;
-            Object.assign(geom, { ns: ns, mxs: mxs, mys: mys });
+            Object.assign(geom, { ns: ns, mxs: mxs, mys: mys, dup: dup });
         }
         scheduleDraw();
         if (source.points.length <= CLICK_RECOMPUTE_LIMIT) {
@@ -983,6 +1250,8 @@
             const counts = r.counts || {};
             return {
                 algorithm: r.algorithm || r.name,
+                status: r.status || 'ok',
+                detail: r.detail || '',
                 compute_ms: num(t.compute_ms, t.compute),
                 total_ms: num(t.total_ms, t.total),
                 vertices: num(r.n_vertices, r.vertices, counts.vertices),
@@ -1038,26 +1307,31 @@
         agree.textContent = '';
         agree.className = 'agree ' + (c.agree ? 'yes' : 'no');
         agree.append(c.agree ? '✓ The three diagrams are identical' : '✗ The diagrams differ');
-        if (!c.agree && c.disagreement) {
+        const why = c.disagreement || c.rows.filter((r) => r.status !== 'ok')
+            .map((r) => (ALGO_LABEL[r.algorithm] || r.algorithm) + ': ' + (r.detail || r.status)).join('; ');
+        if (!c.agree && why) {
             const s = document.createElement('small');
-            s.textContent = c.disagreement;
+            s.textContent = why;
             agree.appendChild(s);
         }
         agree.dataset.agree = c.agree ? 'yes' : 'no';
         const tbody = $('compare-table').tBodies[0];
         tbody.textContent = '';
-        const best = Math.min(...c.rows.map((r) => r.compute_ms).filter((v) => v != null));
+        const best = Math.min(...c.rows.filter((r) => r.status === 'ok').map((r) => r.compute_ms).filter((v) => v != null));
         for (const r of c.rows) {
             const tr = document.createElement('tr');
             tr.dataset.algorithm = r.algorithm;
-            const cells = [ALGO_LABEL[r.algorithm] || r.algorithm, fmtMs(r.compute_ms),
-                fmtInt(r.vertices), fmtInt(r.edges)];
+            const failed = r.status !== 'ok';
+            const cells = [ALGO_LABEL[r.algorithm] || r.algorithm, failed ? r.status : fmtMs(r.compute_ms),
+                failed ? '–' : fmtInt(r.vertices), failed ? '–' : fmtInt(r.edges)];
+            if (failed) tr.title = r.detail || r.status;
             if (r.total_ms != null) tr.title = 'total on the server ' + fmtMs(r.total_ms);
             cells.forEach((text, i) => {
                 const td = document.createElement(i === 0 ? 'th' : 'td');
                 if (i === 0) td.scope = 'row';
                 td.textContent = text;
-                if (i === 1 && r.compute_ms === best && c.rows.length > 1) td.className = 'best';
+                if (i === 1 && !failed && r.compute_ms === best && c.rows.length > 1) td.className = 'best';
+                if (i === 1 && failed) td.className = 'failed';
                 tr.appendChild(td);
             });
             tbody.appendChild(tr);
@@ -1096,19 +1370,20 @@
         const rows = comp.rows;
         const left = 10 + Math.max(...rows.map((r) => c.measureText(ALGO_LABEL[r.algorithm] || r.algorithm).width));
         const right = 70, rowH = Math.min(28, (g.h - 8) / rows.length);
-        const max = Math.max(...rows.map((r) => r.compute_ms || 0)) || 1;
+        const ok = (r) => r.status === 'ok' && typeof r.compute_ms === 'number';
+        const max = Math.max(...rows.map((r) => ok(r) ? r.compute_ms : 0)) || 1;
         rows.forEach((r, i) => {
             const y = 4 + i * rowH;
-            const len = (g.w - left - right) * (r.compute_ms || 0) / max;
+            const len = ok(r) ? (g.w - left - right) * r.compute_ms / max : 0;
             c.fillStyle = '#1d2329';
             c.textAlign = 'right';
             c.textBaseline = 'middle';
             c.fillText(ALGO_LABEL[r.algorithm] || r.algorithm, left - 6, y + rowH / 2);
             c.fillStyle = ALGO_COLOR[r.algorithm] || '#888';
-            c.fillRect(left, y + 4, Math.max(1, len), rowH - 8);
-            c.fillStyle = '#1d2329';
+            if (ok(r)) c.fillRect(left, y + 4, Math.max(1, len), rowH - 8);
+            c.fillStyle = ok(r) ? '#1d2329' : '#a4262c';
             c.textAlign = 'left';
-            c.fillText(fmtMs(r.compute_ms), left + len + 5, y + rowH / 2);
+            c.fillText(ok(r) ? fmtMs(r.compute_ms) : r.status, left + len + 5, y + rowH / 2);
         });
     }
 
@@ -1294,10 +1569,15 @@
                 $('sweep-status').textContent = 'N = ' + fmtInt(n) + ' (' + (i + 1) + ' of ' + sizes.length + ')…';
                 const c = await compareOnce({ kind: 'gen', generate: { distribution: g.distribution, n: n, seed: g.seed } }, abort.signal);
                 const ms = {};
-                for (const r of c.rows) ms[r.algorithm] = r.compute_ms;
-                sw.rows.push({ n: n, ms: ms, agree: c.agree });
+                const status = {};
+                for (const r of c.rows) {
+                    ms[r.algorithm] = r.status === 'ok' ? r.compute_ms : null;
+                    status[r.algorithm] = r.status;
+                }
+                sw.rows.push({ n: n, ms: ms, status: status, agree: c.agree });
                 const tr = document.createElement('tr');
-                const cells = [fmtInt(n)].concat(ALGORITHMS.map((a) => fmtMs(ms[a])), [c.agree ? 'yes' : 'NO']);
+                const cells = [fmtInt(n)].concat(ALGORITHMS.map((a) => ms[a] != null ? fmtMs(ms[a]) : (status[a] || '–')),
+                    [c.agree ? 'yes' : 'NO']);
                 cells.forEach((text, j) => {
                     const td = document.createElement(j === 0 ? 'th' : 'td');
                     if (j === 0) td.scope = 'row';
@@ -1389,7 +1669,7 @@
         $('show-sites').addEventListener('change', scheduleDraw);
         $('show-edges').addEventListener('change', scheduleDraw);
         $('show-delaunay').addEventListener('change', () => {
-            if ($('show-delaunay').checked && pub.lastResult && !pub.lastResult.triangles) compute();
+            if ($('show-delaunay').checked && pub.diagram && !pub.diagram.tri) compute();
             else scheduleDraw();
         });
         $('show-clip').addEventListener('change', () => {
