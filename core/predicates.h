@@ -11,8 +11,10 @@
  *     vor__orient2d_fast(a, b, c)     same result as vor_orient2d(a, b, c)
  *     vor__incircle_fast(a, b, c, d)  same result as vor_incircle(a, b, c, d)
  *
- * Cost of a filtered call: orient2d 7 flops and 3 comparisons, incircle about
- * 40 flops and a range test of its six differences. Requires the translation
+ * Cost of a filtered call: orient2d 9 flops and 3 comparisons, incircle 43
+ * flops and 3 comparisons, no branch on the sign (about 2.4 ns and 7 ns on
+ * the development machine, against 1.6 ns and 3.8 ns for the naive,
+ * wrong-near-degeneracy evaluations). Requires the translation
  * unit to be built with -ffp-contract=off (the Makefile does so for all C):
  * a fused multiply-add would change the rounding the bounds are derived for.
  *
@@ -36,9 +38,9 @@
  *   2^-1075 instead. We require |l| + |r| >= 2^-960; then the spare
  *   4 eps^2 (|l| + |r|) >= 2^-1064 exceeds the two possible absolute errors
  *   2 * 2^-1075 by a factor of a thousand, so the bound stays valid.
- *   Overflow: any inf or nan in the products makes |l| + |r| inf or nan,
- *   and the test |l| + |r| <= DBL_MAX (false for nan) refuses to decide;
- *   det cannot overflow without |l| + |r| overflowing too.
+ *   Overflow: any inf or nan in the products makes |l| + |r|, hence the
+ *   bound, inf or nan, and no comparison with it can succeed; det cannot
+ *   overflow without |l| + |r| overflowing too.
  *
  *   incircle: det = alift (bdx cdy - cdx bdy) + blift (cdx ady - adx cdy)
  *   + clift (adx bdy - bdx ady), evaluated left to right, with
@@ -50,16 +52,26 @@
  *   addition, like orient2d's subtraction, does not change the sign. So
  *   10 eps times the permanent to first order; Shewchuk's iccerrboundA =
  *   (10 + 96 eps) eps covers the second-order terms and the roundings of
- *   the permanent and of the bound.
- *   Underflow and overflow: a small permanent does not exclude a harmful
- *   underflow here (an underflowed product can be multiplied by a large
- *   lift), so instead every difference must be 0 or have a magnitude in
- *   [2^-240, 2^240]. Then every nonzero square and cross product lies in
- *   [2^-480, 2^481]; a nonzero difference of two such products is a
- *   multiple of 2^-532; a nonzero lift times such a difference is at least
- *   2^-1012; the largest value is below 2^966. No operation underflows or
- *   overflows, and a zero factor makes its product exactly zero, so the
- *   purely relative analysis above holds. The test also rejects inf and nan.
+ *   the permanent and of the bound. We add 2^-62 for underflow, below.
+ *   Underflow: a product below 2^-1022 has an absolute error of at most
+ *   2^-1075 (and then no relative one). Such an error is carried on,
+ *   multiplied by the other factor of a later product: an error in a
+ *   square by that row's cross term (pa = |bdx cdy| + |cdx bdy| bounds it),
+ *   an error in a cross product by that row's lift. All of them together
+ *   stay below 2^-1073 U with U = alift + blift + clift + pa + pb + pc + 4
+ *   (the 4 for the products that are not multiplied further, with room
+ *   for the (1 + eps)^k factors). A small permanent alone does not bound
+ *   this (a = (2^500, 0), b = (1/2, 0), c = (0, 2^-1074), d = 0 has
+ *   permanent 2^-576 yet a lost term of 2^-75, and the test suite checks
+ *   it), so the filter decides only when U <= 2^1006 perm; then the
+ *   underflow errors are at most 2^-67 perm, well inside the 2^-62 perm
+ *   added to the bound. The check multiplies perm by a power of two
+ *   instead of multiplying U by 2^-1073: results in the subnormal range
+ *   are slow on x86 (tens of cycles) and would make every call pay.
+ *   Overflow: an inf anywhere makes det, perm or U inf or nan; then either
+ *   a comparison with nan fails, det = inf cannot exceed bound = inf, or
+ *   U = inf fails the guard (perm * 2^1006 may be inf, but then so is the
+ *   bound and no comparison succeeds).
  *
  * Outside these ranges the exact routines first rescale the call's points
  * by a power of two (exact) and try the same filter again, so very large or
@@ -68,20 +80,18 @@
 #ifndef VOR_PREDICATES_H
 #define VOR_PREDICATES_H
 
-#include <float.h>
 #include <math.h>
 
 #include "internal.h"
 
-/* (3 + 16 eps) eps and (10 + 96 eps) eps with eps = 2^-53; both are exactly
- * representable (their bits span fewer than 53 binary places). */
+/* (3 + 16 eps) eps and (10 + 96 eps) eps + 2^-62 with eps = 2^-53; both
+ * are exactly representable (their bits span fewer than 53 binary places). */
 #define VOR__CCW_BOUND (3.0 * 0x1p-53 + 16.0 * 0x1p-106)
-#define VOR__ICC_BOUND (10.0 * 0x1p-53 + 96.0 * 0x1p-106)
+#define VOR__ICC_BOUND (10.0 * 0x1p-53 + 96.0 * 0x1p-106 + 0x1p-62)
 /* |l| + |r| below this may hide underflowed products (see above). */
 #define VOR__CCW_MIN 0x1p-960
-/* Differences for the incircle filter: 0 or within [MIN, MAX]. */
-#define VOR__ICC_DMIN 0x1p-240
-#define VOR__ICC_DMAX 0x1p240
+/* The incircle filter decides only if U <= perm * VOR__ICC_UNDER. */
+#define VOR__ICC_UNDER 0x1p1006
 
 /* The exact evaluations behind the filters (predicates.c). They accept any
  * finite input and return the same as vor_orient2d / vor_incircle; they
@@ -100,20 +110,11 @@ static inline int vor__orient2d_filter(const double *a, const double *b,
     double l = acx * bcy, r = acy * bcx;
     double det = l - r;
     double sum = fabs(l) + fabs(r);
-    if (sum >= VOR__CCW_MIN && sum <= DBL_MAX) {
-        double bound = VOR__CCW_BOUND * sum;
-        if (det > bound)
-            return 1;
-        if (-det > bound)
-            return -1;
-    }
-    return 0;
-}
-
-/* 1 if a difference is usable by the incircle filter (see above). */
-static inline int vor__icc_diff_ok(double d) {
-    double m = fabs(d);
-    return ((m >= VOR__ICC_DMIN) & (m <= VOR__ICC_DMAX)) | (m == 0);
+    double bound = VOR__CCW_BOUND * sum;
+    /* Without branches on the sign, which is unpredictable: inf and nan
+     * make both comparisons false (bound is inf or nan). */
+    int s = (det > bound) - (det < -bound);
+    return sum >= VOR__CCW_MIN ? s : 0;
 }
 
 /* Sign of incircle from the filter alone: +1 or -1 when proven, 0 when the
@@ -122,11 +123,6 @@ static inline int vor__incircle_filter(const double *a, const double *b,
                                        const double *c, const double *d) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
-    int ok = vor__icc_diff_ok(adx) & vor__icc_diff_ok(ady) &
-             vor__icc_diff_ok(bdx) & vor__icc_diff_ok(bdy) &
-             vor__icc_diff_ok(cdx) & vor__icc_diff_ok(cdy);
-    if (!ok)
-        return 0;
     double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
     double cdxady = cdx * ady, adxcdy = adx * cdy;
     double adxbdy = adx * bdy, bdxady = bdx * ady;
@@ -135,15 +131,15 @@ static inline int vor__incircle_filter(const double *a, const double *b,
     double clift = cdx * cdx + cdy * cdy;
     double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
                  clift * (adxbdy - bdxady);
-    double perm = (fabs(bdxcdy) + fabs(cdxbdy)) * alift +
-                  (fabs(cdxady) + fabs(adxcdy)) * blift +
-                  (fabs(adxbdy) + fabs(bdxady)) * clift;
+    double pa = fabs(bdxcdy) + fabs(cdxbdy);
+    double pb = fabs(cdxady) + fabs(adxcdy);
+    double pc = fabs(adxbdy) + fabs(bdxady);
+    double perm = pa * alift + pb * blift + pc * clift;
     double bound = VOR__ICC_BOUND * perm;
-    if (det > bound)
-        return 1;
-    if (-det > bound)
-        return -1;
-    return 0;
+    /* underflow guard; inf and nan fail it or the comparisons */
+    double under = (alift + blift + clift) + (pa + pb + pc) + 4.0;
+    int s = (det > bound) - (det < -bound);
+    return under <= perm * VOR__ICC_UNDER ? s : 0;
 }
 
 /* Exact orient2d with the filter inlined; see vor_orient2d. */

@@ -24,7 +24,7 @@
 
 #include "../../core/predicates.h"
 
-/* ---- oracle --------------------------------------------------------------- */
+/* ---- oracle -------------------------------------------------------------- */
 
 static int oracle_orient(const double *a, const double *b, const double *c) {
     mpq_t ax, ay, bx, by, cx, cy, l, r;
@@ -194,7 +194,7 @@ static int setup_seed(void **state) {
     return 0;
 }
 
-/* ---- (a) Shewchuk / Kettner near-collinear grid --------------------------- */
+/* ---- (a) Shewchuk / Kettner near-collinear grid -------------------------- */
 
 static void test_orient_near_collinear_grid(void **state) {
     (void)state;
@@ -219,7 +219,7 @@ static void test_orient_near_collinear_grid(void **state) {
     assert_int_equal(zeros, 256);    /* a on the diagonal: i == j */
 }
 
-/* ---- (b) near-cocircular: integer points on x^2 + y^2 = 1105^2 ------------- */
+/* ---- (b) near-cocircular: integer points on x^2 + y^2 = 1105^2 ----------- */
 
 static int circle_points(int r, double (*pts)[2], int cap) {
     int n = 0;
@@ -275,7 +275,7 @@ static void test_incircle_near_cocircular(void **state) {
     assert_true(signs[0] > 1000 && signs[2] > 1000);
 }
 
-/* ---- (c) random points at many scales and offsets --------------------------- */
+/* ---- (c) random points at many scales and offsets ------------------------ */
 
 /* A random near-degenerate configuration: c close to the line ab, d close to
  * the circle abc, both rounded to doubles, then scaled and shifted. */
@@ -335,7 +335,7 @@ static void test_random_scales(void **state) {
     printf("# random scales: %ld checks\n", n_checked - before);
 }
 
-/* ---- (d) mixed magnitudes in one call -------------------------------------- */
+/* ---- (d) mixed magnitudes in one call ------------------------------------ */
 
 static void test_mixed_magnitudes(void **state) {
     (void)state;
@@ -375,7 +375,7 @@ static void test_mixed_magnitudes(void **state) {
     }
 }
 
-/* ---- (d') wide dynamic range that only the integer stage gets right ------- */
+/* ---- (d') wide dynamic range that only the integer stage gets right ------ */
 
 /* Small integers mixed with small integers times 2^-e and with 2 - 2^-40
  * style values: the exact determinant then has bits far below the largest
@@ -404,23 +404,132 @@ static void test_wide_dynamic_range(void **state) {
     }
 }
 
+/* ---- (e') integer lattices near degeneracy ------------------------------- */
+
+static double naive_incircle(const double *a, const double *b, const double *c,
+                             const double *d) {
+    double adx = a[0] - d[0], ady = a[1] - d[1], bdx = b[0] - d[0];
+    double bdy = b[1] - d[1], cdx = c[0] - d[0], cdy = c[1] - d[1];
+    return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) +
+           (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+           (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+}
+
+/* Integer points with differences from 2^8 to 2^31, nearly collinear or
+ * nearly cocircular (rounded to the lattice), some shifted by 2^-k so the
+ * lattice is finer than 1: the sizes where a plain double evaluation stops
+ * being exact, which the exact stage's lattice shortcut must respect. */
+static void test_integer_lattices(void **state) {
+    (void)state;
+    int naive_wrong = 0;
+    for (int k = 0; k < 40000; k++) {
+        int bits = 8 + k % 24;
+        double span = ldexp(1, bits);
+        double scale = ldexp(1, -(rng_int(4) * 7));
+        double p[4][2];
+        for (int i = 0; i < 2; i++)
+            for (int j = 0; j < 2; j++)
+                p[i][j] = floor(rng_unit() * span);
+        double t = floor(rng_sym() * 4);
+        for (int j = 0; j < 2; j++) /* c: on the line ab, nudged */
+            p[2][j] = p[0][j] + t * (p[1][j] - p[0][j]) + (rng_int(3) - 1);
+        if (k & 1) { /* a, b, c around a circle, d rounded onto it */
+            double cx = floor(rng_unit() * span), cy = floor(rng_unit() * span);
+            double r = span / 4 + floor(rng_unit() * span / 4);
+            for (int i = 0; i < 4; i++) {
+                double th = rng_unit() * 6.283185307179586;
+                p[i][0] = cx + round(r * cos(th));
+                p[i][1] = cy + round(r * sin(th));
+            }
+        }
+        for (int i = 0; i < 4; i++)
+            for (int j = 0; j < 2; j++)
+                p[i][j] *= scale;
+        int o = check_orient(p[0], p[1], p[2]);
+        int s = check_incircle(p[0], p[1], p[2], p[3]);
+        double nd = naive_incircle(p[0], p[1], p[2], p[3]);
+        naive_wrong += ((nd > 0) - (nd < 0)) != s;
+        (void)o;
+    }
+    printf("# integer lattices: naive incircle wrong in %d of 40000\n",
+           naive_wrong);
+    assert_true(naive_wrong > 0);
+
+    /* Unit-area lattice triangles: b - a = (p, q) coprime, c - a = (r, s)
+     * + t (p, q) with p s - q r = 1, so orient2d is exactly +1 while the
+     * products reach 2^90: the smallest nonzero determinant at every size
+     * from 2^10 to 2^44. */
+    int naive_orient_wrong = 0;
+    for (int k = 0; k < 20000; k++) {
+        int bits = 10 + k % 35;
+        int64_t pq[2], rs[2];
+        for (;;) {
+            pq[0] = (int64_t)(rng_next() >> (64 - bits)) + 1;
+            pq[1] = (int64_t)(rng_next() >> (64 - bits)) + 1;
+            /* extended Euclid: r, s with p s - q r = gcd(p, q) */
+            int64_t r0 = pq[0], r1 = pq[1], s0 = 1, s1 = 0, t0 = 0, t1 = 1;
+            while (r1 != 0) {
+                int64_t qt = r0 / r1;
+                int64_t r2 = r0 - qt * r1, s2 = s0 - qt * s1,
+                        t2 = t0 - qt * t1;
+                r0 = r1, r1 = r2;
+                s0 = s1, s1 = s2;
+                t0 = t1, t1 = t2;
+            }
+            if (r0 != 1)
+                continue; /* not coprime */
+            /* s0 p + t0 q = 1: take (r, s) = (-t0, s0): p s0 - q (-t0) = 1 */
+            rs[0] = -t0;
+            rs[1] = s0;
+            break;
+        }
+        int64_t t = rng_int(41) - 20;
+        double base[2] = {floor(rng_sym() * 0x1p20), floor(rng_sym() * 0x1p20)};
+        double a[2] = {base[0], base[1]};
+        double b[2] = {base[0] + (double)pq[0], base[1] + (double)pq[1]};
+        double c[2] = {base[0] + (double)(rs[0] + t * pq[0]),
+                       base[1] + (double)(rs[1] + t * pq[1])};
+        int e = rng_int(200) - 100;
+        for (int j = 0; j < 2; j++) {
+            a[j] = ldexp(a[j], e);
+            b[j] = ldexp(b[j], e);
+            c[j] = ldexp(c[j], e);
+        }
+        assert_int_equal(check_orient(a, b, c), 1);
+        double nd = (a[0] - c[0]) * (b[1] - c[1]) -
+                    (a[1] - c[1]) * (b[0] - c[0]);
+        naive_orient_wrong += !(nd > 0);
+    }
+    printf("# unit-area lattice triangles: naive orient2d wrong in %d of "
+           "20000\n", naive_orient_wrong);
+    assert_true(naive_orient_wrong > 1000);
+}
+
 /* ---- (e) exact constructions: collinear and cocircular ------------------- */
 
 static void test_exact_constructions(void **state) {
     (void)state;
-    double circ[256][2];
-    int nc = circle_points(5525, circ, 256); /* 5525 = 5^2 13 17 */
-    assert_true(nc >= 100);
+    /* radii with many lattice points, differences from 2^13 to 2^24:
+     * 5525 = 5^2 13 17, 32045 = 5 13 17 29, 160225 = 5^2 13 17 29,
+     * 5928325 = 5^2 13 17 29 37 */
+    static const int radii[4] = {5525, 32045, 160225, 5928325};
+    static double circ[4][2048][2];
+    int nc[4];
+    for (int i = 0; i < 4; i++) {
+        nc[i] = circle_points(radii[i], circ[i], 2048);
+        assert_true(nc[i] >= 100);
+    }
     int collinear = 0, cocircular = 0;
     for (int k = 0; k < 20000; k++) {
-        /* exactly collinear: a + i (b - a) with small integers, scaled by a
-         * power of two (exact) and shifted by an exactly representable
-         * offset */
-        int e = rng_int(2000) - 1000;
+        /* exactly collinear: a + t (b - a) with integers (steps up to
+         * 2^39), scaled by a power of two (exact) */
+        int e = rng_int(1900) - 1000;
         double base[2] = {(double)(rng_int(2001) - 1000),
                           (double)(rng_int(2001) - 1000)};
-        double step[2] = {(double)(rng_int(201) - 100),
-                          (double)(rng_int(201) - 100)};
+        double step[2];
+        int sb = rng_int(33);
+        for (int j = 0; j < 2; j++)
+            step[j] = ldexp((double)(rng_int(201) - 100), sb);
         double p[3][2];
         for (int i = 0; i < 3; i++) {
             int t = rng_int(41) - 20;
@@ -429,16 +538,17 @@ static void test_exact_constructions(void **state) {
         }
         collinear += check_orient(p[0], p[1], p[2]) == 0;
 
-        /* exactly cocircular: integer points on a circle about an integer
+        /* exactly cocircular: lattice points on a circle about an integer
          * centre, scaled by a power of two */
+        int ci = k % 4;
         double cx = (double)(rng_int(20001) - 10000);
         double cy = (double)(rng_int(20001) - 10000);
         double q[4][2];
         int f = rng_int(1800) - 900;
         for (int i = 0; i < 4; i++) {
-            int m = rng_int(nc);
-            q[i][0] = ldexp(circ[m][0] + cx, f);
-            q[i][1] = ldexp(circ[m][1] + cy, f);
+            int m = rng_int(nc[ci]);
+            q[i][0] = ldexp(circ[ci][m][0] + cx, f);
+            q[i][1] = ldexp(circ[ci][m][1] + cy, f);
         }
         cocircular += check_incircle(q[0], q[1], q[2], q[3]) == 0;
     }
@@ -476,6 +586,12 @@ static void test_basic_signs(void **state) {
     check_orient(t1, t2, t3);
     check_incircle(o, t1, t2, t3);
     check_incircle(t1, t2, t3, o);
+    /* an underflowed product multiplied by a huge lift: the true term
+     * alift (bdx cdy) = 2^1000 2^-1075 = 2^-75 decides, while the
+     * permanent seen by a filter is only 2^-576 (predicates.h) */
+    const double ua[2] = {0x1p500, 0}, ub[2] = {0.5, 0},
+                 uc[2] = {0, DBL_TRUE_MIN};
+    assert_int_equal(check_incircle(ua, ub, uc, o), 1);
 }
 
 /* ---- bulk random agreement ---------------------------------------------- */
@@ -518,6 +634,7 @@ int main(void) {
         cmocka_unit_test(test_mixed_magnitudes),
         cmocka_unit_test(test_wide_dynamic_range),
         cmocka_unit_test(test_exact_constructions),
+        cmocka_unit_test(test_integer_lattices),
         cmocka_unit_test(test_random_bulk),
     };
     return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
