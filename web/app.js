@@ -978,7 +978,7 @@
 
     /* Sites as small discs, culled, one fill: for up to DOTS_AS_PIXELS. */
     function drawSiteDiscs(z) {
-        const r = geom.ns <= 2000 ? 2.2 : 1.6;
+        const r = geom.ns <= 200 ? 3 : (geom.ns <= 2000 ? 2.3 : 1.6);
         const path = new Path2D();
         const hw = cssW / 2, hh = cssH / 2;
         let drawn = 0;
@@ -1267,8 +1267,10 @@
         };
     }
 
-    async function compareOnce(src, signal) {
-        const r = await send('compare', { signal: signal, noBounds: false }, src);
+    /* One POST compare; the sweep leaves the clip box out (it times the
+     * algorithms, not the clipping). */
+    async function compareOnce(src, signal, noBounds) {
+        const r = await send('compare', { signal: signal, noBounds: !!noBounds }, src);
         let j;
         try {
             j = JSON.parse(r.text);
@@ -1567,7 +1569,7 @@
             for (let i = 0; i < sizes.length; i++) {
                 const n = sizes[i];
                 $('sweep-status').textContent = 'N = ' + fmtInt(n) + ' (' + (i + 1) + ' of ' + sizes.length + ')…';
-                const c = await compareOnce({ kind: 'gen', generate: { distribution: g.distribution, n: n, seed: g.seed } }, abort.signal);
+                const c = await compareOnce({ kind: 'gen', generate: { distribution: g.distribution, n: n, seed: g.seed } }, abort.signal, true);
                 const ms = {};
                 const status = {};
                 for (const r of c.rows) {

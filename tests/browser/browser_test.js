@@ -393,6 +393,25 @@ async function main() {
             await page.screenshot({ path: path.join(OUT, 'csv.png') });
         });
 
+        await step('a JSON file dropped on the diagram is drawn', async () => {
+            const pts = [[10, 10], [20, 12], [15, 20], [12, 16], [18, 17], [25, 25]];
+            const before = await state(page);
+            await page.evaluate((json) => {
+                const dt = new DataTransfer();
+                dt.items.add(new File([json], 'dropped.json', { type: 'application/json' }));
+                const wrap = document.getElementById('canvas-wrap');
+                for (const type of ['dragenter', 'dragover', 'drop']) {
+                    wrap.dispatchEvent(new DragEvent(type, { dataTransfer: dt, bubbles: true, cancelable: true }));
+                }
+            }, JSON.stringify(pts));
+            const s = await waitComputed(page, before);
+            assert(s.result.n_input === 6 && s.result.n_sites === 6, 'sites ' + s.result.n_sites);
+            assert(s.result.n_edges === s.result.n_vertices + 6 - 1, 'Euler: V ' + s.result.n_vertices + ', E ' + s.result.n_edges);
+            assert(s.sitesDrawn === 6 && s.edgesDrawn >= s.result.n_edges - s.result.n_rays && s.edgesDrawn <= s.result.n_edges, 'drawn ' + s.sitesDrawn + ' sites, ' + s.edgesDrawn + ' edges');
+            assert((await text(page, '#source')).includes('dropped.json'), 'the source line does not name the file');
+            assert(await page.locator('#drop').isHidden(), 'the drop overlay stays');
+        });
+
         await step('a malformed file shows the service\'s problem title and detail', async () => {
             allowHttpErrors++;
             try {
