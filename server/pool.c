@@ -1,8 +1,9 @@
 /* pool.c -- the compute thread pool: bounded queue, deadlines, shutdown.
  *
  * Representation: one mutex guards everything below it in struct srv_pool:
- * a ring buffer of waiting jobs (capacity queue_cap + 1, the extra slot
- * keeps room for the exit sentinel), one slot per worker naming the job it
+ * a ring buffer of waiting jobs (queue_cap + workers slots, since jobs an
+ * idle worker is about to take do not count against queue_cap, plus one
+ * that keeps room for the exit sentinel), one slot per worker naming the job it
  * runs, and the counters. Two condition variables hang off that mutex:
  * `work` wakes workers when a job (or the sentinel) is queued; `watch` wakes
  * the deadline timer and srv_pool_free when deadlines or the idle state may
@@ -60,8 +61,8 @@ struct srv_pool {
     pthread_t *threads;   /* n_workers workers, then the timer */
     int n_threads;
 
-    /* Room to settle every job at once (queue_cap + n_workers entries):
-     * one set for the timer thread, one for srv_pool_cancel_all. */
+    /* Room to settle every job at once (every ring slot and every
+     * worker): one set for the timer thread, one for srv_pool_cancel_all. */
     srv_job **timer_jobs, **cancel_jobs;
     int *timer_rel, *cancel_rel;
 };
@@ -123,7 +124,7 @@ static void settle(settle_list *l, srv_job_outcome outcome) {
 }
 
 /* Moves jobs whose deadline is <= now (all jobs when now < 0) out of the
- * queue and running slots into l (sized queue_cap + workers). Under mu. */
+ * queue and running slots into l (sized ring_size + workers). Under mu. */
 static void collect(srv_pool *p, int64_t now, settle_list *l) {
     for (size_t i = 0; i < p->n_queued;) {
         srv_job *job = ring_at(p, i);
@@ -257,13 +258,13 @@ srv_pool *srv_pool_new(int workers, int queue_cap) {
     srv_pool *p = calloc(1, sizeof *p);
     if (p == NULL) return NULL;
     p->queue_cap = (size_t)queue_cap;
-    p->ring_size = p->queue_cap + 1;
+    p->ring_size = p->queue_cap + (size_t)workers + 1;
     p->n_workers = workers;
     p->timer_target = INT64_MAX;
     p->ring = calloc(p->ring_size, sizeof *p->ring);
     p->running = calloc((size_t)workers, sizeof *p->running);
     p->threads = calloc((size_t)workers + 1, sizeof *p->threads);
-    size_t settle_cap = p->queue_cap + (size_t)workers;
+    size_t settle_cap = p->ring_size + (size_t)workers; /* queued + running */
     p->timer_jobs = calloc(settle_cap, sizeof *p->timer_jobs);
     p->cancel_jobs = calloc(settle_cap, sizeof *p->cancel_jobs);
     p->timer_rel = calloc(settle_cap, sizeof *p->timer_rel);
@@ -327,7 +328,11 @@ int srv_pool_submit(srv_pool *p, srv_job *job) {
         pthread_mutex_unlock(&p->mu);
         return SRV_POOL_CLOSED;
     }
-    if (p->n_queued >= p->queue_cap) {
+    /* Jobs an idle worker is about to take do not count as waiting: a
+     * queue of q behind w workers holds q + w jobs however fast the
+     * workers wake up. */
+    size_t idle = (size_t)p->n_workers - p->n_running;
+    if (p->n_queued >= p->queue_cap + idle) {
         pthread_mutex_unlock(&p->mu);
         return SRV_POOL_FULL;
     }

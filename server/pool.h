@@ -54,7 +54,8 @@ enum { SRV_POOL_OK = 0, SRV_POOL_FULL = 1, SRV_POOL_CLOSED = 2,
        SRV_POOL_NOMEM = 3 };
 
 /* Starts `workers` compute threads and one deadline timer; at most
- * `queue_cap` jobs wait for a worker. Both are clamped to at least 1.
+ * `queue_cap` jobs wait while every worker is busy (so queue_cap + workers
+ * jobs are accepted at once). Both are clamped to at least 1.
  * NULL if memory or threads cannot be had (nothing is left running). */
 srv_pool *srv_pool_new(int workers, int queue_cap);
 

@@ -81,6 +81,37 @@ IT_UNUSED static char *it_read_file(const char *path, size_t *len) {
     return buf;
 }
 
+/* Daemons still running when the test binary exits (a failed assertion
+ * jumps past the cleanup) are killed, so none is left behind. */
+static pid_t it__pids[16];
+
+static void it__kill_leftovers(void) {
+    for (int i = 0; i < 16; i++)
+        if (it__pids[i] > 0) {
+            kill(it__pids[i], SIGKILL);
+            waitpid(it__pids[i], NULL, 0);
+            it__pids[i] = 0;
+        }
+}
+
+static void it__track(pid_t pid, int add) {
+    static int registered;
+    if (!registered) {
+        atexit(it__kill_leftovers);
+        registered = 1;
+    }
+    for (int i = 0; i < 16; i++) {
+        if (add && it__pids[i] == 0) {
+            it__pids[i] = pid;
+            return;
+        }
+        if (!add && it__pids[i] == pid) {
+            it__pids[i] = 0;
+            return;
+        }
+    }
+}
+
 /* Starts $VOR_DAEMON --bind 127.0.0.1 --port 0 with the extra flags
  * (NULL-terminated, may be NULL). Returns 0 once it is listening. */
 IT_UNUSED static int it_start(it_daemon *d, const char *const *extra) {
@@ -117,6 +148,7 @@ IT_UNUSED static int it_start(it_daemon *d, const char *const *extra) {
         _exit(127);
     }
     d->pid = pid;
+    it__track(pid, 1);
     double until = it_now() + (it_tsan() ? 120 : 60);
     while (it_now() < until) {
         char *log = it_read_file(d->log, NULL);
@@ -130,6 +162,7 @@ IT_UNUSED static int it_start(it_daemon *d, const char *const *extra) {
         int status;
         if (waitpid(pid, &status, WNOHANG) == pid) {
             fprintf(stderr, "voronoid exited before listening\n");
+            it__track(pid, 0);
             d->pid = 0;
             return -1;
         }
@@ -149,11 +182,13 @@ IT_UNUSED static int it_stop(it_daemon *d, int sig) {
         if (it_now() > until) {
             kill(d->pid, SIGKILL);
             waitpid(d->pid, &status, 0);
+            it__track(d->pid, 0);
             d->pid = 0;
             return -1;
         }
         it_sleep(0.01);
     }
+    it__track(d->pid, 0);
     d->pid = 0;
     if (WIFEXITED(status)) return WEXITSTATUS(status);
     return 128 + WTERMSIG(status);
@@ -381,6 +416,63 @@ IT_UNUSED static json_t *it_json(const it_resp *r) {
     return j;
 }
 
+/* ---- metrics --------------------------------------------------------------- */
+
+/* Value of the sample line `series value` in a Prometheus text (the whole
+ * line must start with series), or -1 when there is none. */
+IT_UNUSED static double it_metric(const char *text, const char *series) {
+    size_t n = strlen(series);
+    for (const char *p = text; p && *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : NULL)
+        if (strncmp(p, series, n) == 0 && p[n] == ' ') return atof(p + n + 1);
+    return -1;
+}
+
+/* GET /metrics and one sample from it (-1 when absent or on failure). */
+IT_UNUSED static double it_get_metric(const it_daemon *d, const char *series) {
+    it_req q = {.path = "/metrics"};
+    it_resp r;
+    it_http(d, &q, &r);
+    double v = r.status == 200 ? it_metric(r.body, series) : -1;
+    it_free(&r);
+    return v;
+}
+
+/* ---- slow requests --------------------------------------------------------- */
+
+/* Body of a request for the diagram of n generated points whose answer is
+ * only the timings (slow to compute, small to send). */
+IT_UNUSED static void it_slow_body(char *buf, size_t size, size_t n) {
+    snprintf(buf, size,
+             "{\"generate\": {\"distribution\": \"uniform\", \"n\": %zu, "
+             "\"seed\": 1}, \"format\": \"timings\"}", n);
+}
+
+/* Finds a number of points whose request keeps a worker busy for at least
+ * min_s seconds on this machine and build (doubling from 25000, at most
+ * max_n). This sizes the tests' slow requests; nothing is asserted on the
+ * times themselves. */
+IT_UNUSED static size_t it_calibrate(const it_daemon *d, double min_s,
+                                     size_t max_n) {
+    size_t n = 25000;
+    for (;;) {
+        char body[256];
+        it_slow_body(body, sizeof body, n);
+        it_req q = {.path = "/voronoi", .body = body, .len = strlen(body)};
+        it_resp r;
+        double t0 = it_now();
+        it_http(d, &q, &r);
+        double dt = it_now() - t0;
+        long status = r.status;
+        it_free(&r);
+        if (status != 200 || dt >= min_s || n * 2 > max_n) {
+            printf("slow requests: %zu points (%.3f s here)\n", n, dt);
+            return n;
+        }
+        n *= dt < min_s / 4 ? 4 : 2;
+        if (n > max_n) n = max_n;
+    }
+}
+
 /* ---- saving responses for tests/openapi ---------------------------------- */
 
 IT_UNUSED static const char *it_responses_dir(char *buf, size_t size) {
@@ -474,6 +566,14 @@ IT_UNUSED static int it_connect(int port) {
     return fd;
 }
 
+/* Case-insensitive strstr (ASCII). */
+IT_UNUSED static const char *strcasestr_like(const char *hay, const char *needle) {
+    size_t n = strlen(needle);
+    for (; *hay; hay++)
+        if (strncasecmp(hay, needle, n) == 0) return hay;
+    return NULL;
+}
+
 IT_UNUSED static int it_send_all(int fd, const void *data, size_t n) {
     const char *p = data;
     while (n > 0) {
@@ -493,6 +593,35 @@ IT_UNUSED static size_t it_recv_until(int fd, char *buf, size_t cap,
     size_t n = 0;
     if (closed) *closed = 0;
     while (n + 1 < cap) {
+        struct pollfd p = {fd, POLLIN, 0};
+        int rc = poll(&p, 1, (int)(timeout_s * 1000));
+        if (rc <= 0) break;
+        ssize_t got = recv(fd, buf + n, cap - 1 - n, 0);
+        if (got <= 0) {
+            if (closed) *closed = 1;
+            break;
+        }
+        n += (size_t)got;
+    }
+    buf[n] = '\0';
+    return n;
+}
+
+/* Reads one HTTP response: until its headers and Content-Length bytes of
+ * body are in, the peer closes, or timeout_s passes without data. Returns
+ * bytes read; *closed as for it_recv_until. */
+IT_UNUSED static size_t it_recv_response(int fd, char *buf, size_t cap,
+                                         double timeout_s, int *closed) {
+    size_t n = 0;
+    if (closed) *closed = 0;
+    while (n + 1 < cap) {
+        buf[n] = '\0';
+        const char *end = strstr(buf, "\r\n\r\n");
+        if (end != NULL) {
+            const char *cl = strcasestr_like(buf, "\r\nContent-Length:");
+            size_t want = cl ? (size_t)atol(cl + 17) : 0;
+            if (n >= (size_t)(end + 4 - buf) + want) break;
+        }
         struct pollfd p = {fd, POLLIN, 0};
         int rc = poll(&p, 1, (int)(timeout_s * 1000));
         if (rc <= 0) break;

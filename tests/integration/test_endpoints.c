@@ -456,12 +456,6 @@ static void test_page_and_files(void **state) {
     }
 }
 
-static long metric(const char *text, const char *series) {
-    const char *p = strstr(text, series);
-    if (p == NULL) return -1;
-    return atol(p + strlen(series) + 1);
-}
-
 static void test_health_ready_metrics_log(void **state) {
     (void)state;
     it_resp r;
@@ -498,19 +492,19 @@ static void test_health_ready_metrics_log(void **state) {
     char h[128];
     assert_non_null(strstr(it_header(&r, "Content-Type", h, sizeof h),
                            "text/plain"));
-    assert_true(metric(r.body, "voronoid_requests_total{route=\"/voronoi\","
+    assert_true(it_metric(r.body, "voronoid_requests_total{route=\"/voronoi\","
                                "status=\"200\"}") >= 1);
-    assert_true(metric(r.body, "voronoid_points_total{algorithm=\"flip\"}") >= 5);
-    assert_true(metric(r.body, "voronoid_computations_total{algorithm=\"flip\"}")
+    assert_true(it_metric(r.body, "voronoid_points_total{algorithm=\"flip\"}") >= 5);
+    assert_true(it_metric(r.body, "voronoid_computations_total{algorithm=\"flip\"}")
                 >= 1);
-    assert_true(metric(r.body, "voronoid_request_duration_seconds_count{route="
+    assert_true(it_metric(r.body, "voronoid_request_duration_seconds_count{route="
                                "\"/voronoi\"}") >= 1);
-    assert_int_equal(metric(r.body, "voronoid_queue_depth"), 0);
-    assert_int_equal(metric(r.body, "voronoid_ready"), 1);
+    assert_int_equal(it_metric(r.body, "voronoid_queue_depth"), 0);
+    assert_int_equal(it_metric(r.body, "voronoid_ready"), 1);
     assert_non_null(strstr(r.body, "voronoid_compute_seconds_total{algorithm="
                                    "\"fortune\"}"));
     /* The /metrics request itself is in flight while it is rendered. */
-    assert_int_equal(metric(r.body, "voronoid_in_flight"), 1);
+    assert_int_equal(it_metric(r.body, "voronoid_in_flight"), 1);
     it_free(&r);
 
     /* The access log line (written once the answer is sent). */

@@ -149,6 +149,24 @@ static void test_bounded_queue_refuses_overflow(void **state) {
     assert_int_equal(srv_pool_free(p, 5), 0);
 }
 
+/* Jobs submitted faster than an idle worker wakes up still fit: the
+ * capacity is queue_cap waiting plus one per worker. */
+static void test_capacity_counts_idle_workers(void **state) {
+    (void)state;
+    srv_pool *p = srv_pool_new(2, 1);
+    assert_non_null(p);
+    int gate = 0;
+    tjob j[4];
+    for (int i = 0; i < 4; i++) init_job(&j[i], &gate, 0);
+    assert_int_equal(srv_pool_submit(p, &j[0].base), SRV_POOL_OK);
+    assert_int_equal(srv_pool_submit(p, &j[1].base), SRV_POOL_OK);
+    assert_int_equal(srv_pool_submit(p, &j[2].base), SRV_POOL_OK);
+    assert_int_equal(srv_pool_submit(p, &j[3].base), SRV_POOL_FULL);
+    open_gate(&gate);
+    for (int i = 0; i < 3; i++) wait_for(&j[i], &j[i].released, 1);
+    assert_int_equal(srv_pool_free(p, 5), 0);
+}
+
 static void test_deadline_drops_queued_job(void **state) {
     (void)state;
     srv_pool *p = srv_pool_new(1, 4);
@@ -281,6 +299,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_runs_jobs_in_order),
         cmocka_unit_test(test_bounded_queue_refuses_overflow),
+        cmocka_unit_test(test_capacity_counts_idle_workers),
         cmocka_unit_test(test_deadline_drops_queued_job),
         cmocka_unit_test(test_deadline_abandons_running_job),
         cmocka_unit_test(test_cancel_all),

@@ -1,0 +1,157 @@
+/* test_overload.c -- back-pressure and deadlines:
+ *   - with one worker and a queue of one, a burst of slow requests gets
+ *     503 + Retry-After for what does not fit, 200 for the rest, and the
+ *     service recovers once the burst is over;
+ *   - with a short --timeout, a request being computed and one waiting in
+ *     the queue both answer 504 (the running computation finishes in the
+ *     background and its result is discarded), and the service recovers.
+ * Slow requests are sized on this machine first (it_calibrate); the tests
+ * assert outcomes, never durations. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "harness.h"
+
+static size_t slow_n;
+
+/* Waits (hang guard) until no worker is busy. */
+static void wait_workers_idle(const it_daemon *d) {
+    for (int i = 0; i < 6000; i++) {
+        if (it_get_metric(d, "voronoid_workers_busy") == 0) return;
+        it_sleep(0.02);
+    }
+    fail_msg("workers still busy");
+}
+
+static const char square_json[] =
+    "{\"points\": [[0,0],[1,0],[0,1],[1,1],[0.5,0.5]]}";
+
+static void small_request_works(const it_daemon *d) {
+    it_req q = {.path = "/voronoi", .body = square_json,
+                .len = strlen(square_json)};
+    it_resp r;
+    it_http(d, &q, &r);
+    assert_int_equal(r.status, 200);
+    json_t *j = it_json(&r);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_vertices")), 4);
+    json_decref(j);
+    it_free(&r);
+}
+
+static void test_full_queue_503_then_recovers(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "1", "--queue", "1", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    slow_n = it_calibrate(&d, 0.4, 1000000);
+
+    enum { N = 6 };
+    char body[256];
+    it_slow_body(body, sizeof body, slow_n);
+    it_req q[N];
+    it_resp r[N];
+    memset(q, 0, sizeof q);
+    for (int i = 0; i < N; i++) {
+        q[i].path = "/voronoi";
+        q[i].body = body;
+        q[i].len = strlen(body);
+    }
+    it_parallel(&d, q, r, N);
+    int ok = 0, busy = 0;
+    for (int i = 0; i < N; i++) {
+        if (r[i].curl_rc != 0) fail_msg("client %d: %s", i, r[i].err);
+        char h[256];
+        if (r[i].status == 200) {
+            ok++;
+            json_t *j = it_json(&r[i]);
+            assert_non_null(json_object_get(j, "compute_ms"));
+            json_decref(j);
+        } else if (r[i].status == 503) {
+            busy++;
+            const char *ra = it_header(&r[i], "Retry-After", h, sizeof h);
+            assert_non_null(ra);
+            assert_true(atoi(ra) >= 1);
+            json_t *j = it_json(&r[i]);
+            assert_string_equal(json_string_value(json_object_get(j, "type")),
+                                "/problems/unavailable");
+            assert_non_null(strstr(json_string_value(json_object_get(j, "detail")),
+                                   "busy"));
+            json_decref(j);
+            if (busy == 1) it_save("voronoi-503-queue-full", &q[i], &r[i]);
+        } else {
+            fail_msg("client %d: status %ld %s", i, r[i].status, r[i].body);
+        }
+        it_free(&r[i]);
+    }
+    printf("burst of %d: %d answered, %d refused with 503\n", N, ok, busy);
+    assert_true(ok >= 2);   /* the running one and the queued one */
+    assert_true(busy >= 1);
+    /* Recovered. */
+    small_request_works(&d);
+    assert_int_equal(it_get_metric(&d, "voronoid_queue_depth"), 0);
+    assert_true(it_get_metric(&d, "voronoid_requests_total{route=\"/voronoi\","
+                               "status=\"503\"}") >= busy);
+    assert_int_equal(it_cleanup(&d), 0);
+}
+
+static void test_deadline_504(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "1", "--queue", "4", "--timeout",
+                          "0.1", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    char body[256];
+    it_slow_body(body, sizeof body, slow_n);
+    it_req q[2];
+    it_resp r[2];
+    memset(q, 0, sizeof q);
+    for (int i = 0; i < 2; i++) {
+        q[i].path = i ? "/compare" : "/voronoi";
+        q[i].body = body;
+        q[i].len = strlen(body);
+    }
+    it_parallel(&d, q, r, 2);
+    int running = 0, queued = 0;
+    for (int i = 0; i < 2; i++) {
+        if (r[i].status != 504)
+            fail_msg("request %d: %ld %s", i, r[i].status, r[i].body);
+        json_t *j = it_json(&r[i]);
+        assert_string_equal(json_string_value(json_object_get(j, "type")),
+                            "/problems/timeout");
+        const char *detail = json_string_value(json_object_get(j, "detail"));
+        running += strstr(detail, "being computed") != NULL;
+        queued += strstr(detail, "waiting in the queue") != NULL;
+        json_decref(j);
+        if (i == 0) it_save("voronoi-504", &q[i], &r[i]);
+        it_free(&r[i]);
+    }
+    /* One held the only worker past its deadline, the other never left
+     * the queue. */
+    assert_int_equal(running, 1);
+    assert_int_equal(queued, 1);
+    /* The abandoned computation ends in the background; then all is well
+     * (a generous deadline is not needed for 5 points). */
+    wait_workers_idle(&d);
+    small_request_works(&d);
+    assert_true(it_get_metric(&d, "voronoid_requests_total{route=\"/voronoi\","
+                               "status=\"504\"}") == 1);
+    char *log = it_log(&d);
+    assert_non_null(strstr(log, "path=/compare status=504"));
+    free(log);
+    assert_int_equal(it_cleanup(&d), 0);
+}
+
+int main(void) {
+    curl_global_init(CURL_GLOBAL_ALL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_full_queue_503_then_recovers),
+        cmocka_unit_test(test_deadline_504),
+    };
+    int rc = cmocka_run_group_tests_name("integration/overload", tests, NULL,
+                                         NULL);
+    curl_global_cleanup();
+    return rc;
+}

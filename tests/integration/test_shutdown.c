@@ -1,0 +1,177 @@
+/* test_shutdown.c -- SIGTERM and SIGINT with requests in flight:
+ *   - every accepted request gets its complete answer, /readyz turns 503
+ *     on a connection that was already open, and the daemon exits 0;
+ *   - when --grace runs out first, what is still queued or computing is
+ *     answered 503 (never dropped) and the daemon still exits 0.
+ * Slow requests are sized on this machine first; no durations are
+ * asserted. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <pthread.h>
+#include <cmocka.h>
+
+#include "harness.h"
+
+static size_t slow_n;
+
+typedef struct burst {
+    const it_daemon *d;
+    it_req *q;
+    it_resp *r;
+    size_t n;
+} burst;
+
+static void *run_burst(void *arg) {
+    burst *b = arg;
+    it_parallel(b->d, b->q, b->r, b->n);
+    return NULL;
+}
+
+/* Waits until `want` requests besides the /metrics probe are in flight. */
+static void wait_in_flight(const it_daemon *d, long want) {
+    for (int i = 0; i < 6000; i++) {
+        if (it_get_metric(d, "voronoid_in_flight") >= want + 1) return;
+        it_sleep(0.01);
+    }
+    fail_msg("requests never got in flight");
+}
+
+static void wait_log(const it_daemon *d, const char *text) {
+    for (int i = 0; i < 6000; i++) {
+        char *log = it_log(d);
+        int found = log && strstr(log, text);
+        free(log);
+        if (found) return;
+        it_sleep(0.01);
+    }
+    fail_msg("log never said \"%s\"", text);
+}
+
+static void test_sigterm_loses_nothing(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "2", "--grace", "120", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    slow_n = it_calibrate(&d, 0.3, 1000000);
+
+    /* A keep-alive connection opened before the signal. */
+    int fd = it_connect(d.port);
+    assert_true(fd >= 0);
+    const char *hz = "GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n";
+    char buf[4096];
+    int closed;
+    assert_int_equal(it_send_all(fd, hz, strlen(hz)), 0);
+    it_recv_response(fd, buf, sizeof buf, 30, &closed);
+    assert_int_equal(it_raw_status(buf), 200);
+
+    enum { N = 6 };
+    char body[256];
+    it_slow_body(body, sizeof body, slow_n);
+    it_req q[N];
+    it_resp r[N];
+    memset(q, 0, sizeof q);
+    for (int i = 0; i < N; i++) {
+        q[i].path = i % 2 ? "/compare" : "/voronoi";
+        q[i].body = body;
+        q[i].len = strlen(body);
+    }
+    burst b = {&d, q, r, N};
+    pthread_t th;
+    assert_int_equal(pthread_create(&th, NULL, run_burst, &b), 0);
+    wait_in_flight(&d, N);
+    kill(d.pid, SIGTERM);
+    wait_log(&d, "SIGTERM: draining");
+
+    /* Not ready any more, said on the connection already open. */
+    const char *rz = "GET /readyz HTTP/1.1\r\nHost: x\r\n\r\n";
+    assert_int_equal(it_send_all(fd, rz, strlen(rz)), 0);
+    it_recv_response(fd, buf, sizeof buf, 60, &closed);
+    assert_int_equal(it_raw_status(buf), 503);
+    assert_non_null(strstr(buf, "Connection: close"));
+    assert_non_null(strstr(buf, "/problems/unavailable"));
+    close(fd);
+
+    pthread_join(th, NULL);
+    for (int i = 0; i < N; i++) {
+        if (r[i].curl_rc != 0 || r[i].status != 200)
+            fail_msg("request %d: curl %d (%s) status %ld %.200s", i,
+                     r[i].curl_rc, r[i].err, r[i].status, r[i].body);
+        json_t *j = it_json(&r[i]);
+        assert_non_null(j); /* complete, parseable answers */
+        if (i % 2)
+            assert_true(json_is_true(json_object_get(j, "agree")));
+        else
+            assert_non_null(json_object_get(j, "compute_ms"));
+        json_decref(j);
+        it_free(&r[i]);
+    }
+    int rc = it_stop(&d, 0);
+    char *log = it_log(&d);
+    assert_non_null(strstr(log, "voronoid: stopped"));
+    free(log);
+    assert_int_equal(rc, 0);
+    it_cleanup(&d);
+}
+
+static void test_grace_over_answers_503(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "1", "--grace", "0.05", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    enum { N = 3 };
+    char body[256];
+    it_slow_body(body, sizeof body, slow_n * 2);
+    it_req q[N];
+    it_resp r[N];
+    memset(q, 0, sizeof q);
+    for (int i = 0; i < N; i++) {
+        q[i].path = "/voronoi";
+        q[i].body = body;
+        q[i].len = strlen(body);
+    }
+    burst b = {&d, q, r, N};
+    pthread_t th;
+    assert_int_equal(pthread_create(&th, NULL, run_burst, &b), 0);
+    wait_in_flight(&d, N);
+    kill(d.pid, SIGINT);
+    pthread_join(th, NULL);
+    int refused = 0;
+    for (int i = 0; i < N; i++) {
+        if (r[i].curl_rc != 0)
+            fail_msg("request %d dropped: %s", i, r[i].err);
+        if (r[i].status == 503) {
+            refused++;
+            json_t *j = it_json(&r[i]);
+            assert_non_null(strstr(json_string_value(json_object_get(j, "detail")),
+                                   "shutting down"));
+            json_decref(j);
+            char h[64];
+            assert_non_null(it_header(&r[i], "Retry-After", h, sizeof h));
+        } else if (r[i].status != 200) {
+            fail_msg("request %d: status %ld", i, r[i].status);
+        }
+        it_free(&r[i]);
+    }
+    /* At least the queued ones could not be finished in 50 ms. */
+    assert_true(refused >= 2);
+    assert_int_equal(it_stop(&d, 0), 0);
+    char *log = it_log(&d);
+    assert_non_null(strstr(log, "SIGINT: draining"));
+    assert_non_null(strstr(log, "grace over"));
+    free(log);
+    it_cleanup(&d);
+}
+
+int main(void) {
+    curl_global_init(CURL_GLOBAL_ALL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sigterm_loses_nothing),
+        cmocka_unit_test(test_grace_over_answers_503),
+    };
+    int rc = cmocka_run_group_tests_name("integration/shutdown", tests, NULL,
+                                         NULL);
+    curl_global_cleanup();
+    return rc;
+}
