@@ -497,6 +497,7 @@ IT_UNUSED static const char *it_responses_dir(char *buf, size_t size) {
 IT_UNUSED static void it_save(const char *name, const it_req *q,
                               const it_resp *r) {
     char dir[1024], path[1200], hbuf[512];
+    if (r->status == 0) return; /* no answer: nothing to hold to the contract */
     if (it_responses_dir(dir, sizeof dir) == NULL) return;
     json_t *o = json_object();
     const char *method = q->method ? q->method : (q->body ? "POST" : "GET");

@@ -525,6 +525,38 @@ static void test_health_ready_metrics_log(void **state) {
     free(log);
 }
 
+/* --web-dir serves the page from disk; openapi.yaml stays built in. */
+static void test_web_dir(void **state) {
+    (void)state;
+    char dir[] = "/tmp/voronoid-web-XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char path[128];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    FILE *f = fopen(path, "w");
+    fputs("<!doctype html><html><body>from the disk</body></html>\n", f);
+    fclose(f);
+    it_daemon d2;
+    const char *args[] = {"--web-dir", dir, NULL};
+    assert_int_equal(it_start(&d2, args), 0);
+    it_req q = {.path = "/"};
+    it_resp r;
+    it_http(&d2, &q, &r);
+    assert_int_equal(r.status, 200);
+    assert_non_null(strstr(r.body, "from the disk"));
+    it_free(&r);
+    q.path = "/app.js"; /* not in that directory */
+    it_http(&d2, &q, &r);
+    assert_int_equal(r.status, 404);
+    it_free(&r);
+    q.path = "/openapi.yaml";
+    it_http(&d2, &q, &r);
+    assert_int_equal(r.status, 200);
+    it_free(&r);
+    assert_int_equal(it_cleanup(&d2), 0);
+    snprintf(path, sizeof path, "rm -rf '%s'", dir);
+    assert_int_equal(system(path), 0);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_voronoi_json_every_algorithm),
@@ -535,6 +567,7 @@ int main(void) {
         cmocka_unit_test(test_gzip_timing_cors_ids),
         cmocka_unit_test(test_page_and_files),
         cmocka_unit_test(test_health_ready_metrics_log),
+        cmocka_unit_test(test_web_dir),
     };
     return cmocka_run_group_tests_name("integration/endpoints", tests, setup,
                                        teardown);

@@ -254,6 +254,63 @@ static void test_still_healthy(void **state) {
     it_free(&r);
 }
 
+/* Runs $VOR_DAEMON with args; returns its exit status, its output in out. */
+static int run_daemon(const char *const *args, char *out, size_t cap) {
+    char tmpl[] = "/tmp/voronoid-flags-XXXXXX";
+    int fd = mkstemp(tmpl);
+    assert_true(fd >= 0);
+    pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        const char *argv[16] = {getenv("VOR_DAEMON")};
+        for (int i = 0; args[i] && i < 14; i++) argv[i + 1] = args[i];
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int status;
+    waitpid(pid, &status, 0);
+    close(fd);
+    char *text = it_read_file(tmpl, NULL);
+    snprintf(out, cap, "%s", text ? text : "");
+    free(text);
+    unlink(tmpl);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+static void test_bad_flags_exit_2(void **state) {
+    (void)state;
+    static const struct {
+        const char *args[4];
+        const char *must_say;
+    } cases[] = {
+        {{"--port", "http", NULL}, "--port: 'http'"},
+        {{"--workers=0", NULL}, "--workers: '0'"},
+        {{"--max-body", "lots", NULL}, "--max-body: 'lots'"},
+        {{"--timeout", "-1", NULL}, "--timeout: '-1'"},
+        {{"--bind", "example.org", NULL}, "--bind: 'example.org'"},
+        {{"--web-dir", "/no/such/dir", NULL}, "--web-dir: '/no/such/dir'"},
+        {{"--colour", "red", NULL}, "--colour"},
+        {{"--queue", NULL}, "missing value for --queue"},
+    };
+    char out[4096];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int rc = run_daemon(cases[i].args, out, sizeof out);
+        if (rc != 2 || strstr(out, cases[i].must_say) == NULL)
+            fail_msg("case %zu: exit %d, said: %s", i, rc, out);
+    }
+    const char *help[] = {"--help", NULL};
+    assert_int_equal(run_daemon(help, out, sizeof out), 0);
+    assert_non_null(strstr(out, "VORONOID_PORT"));
+    /* The environment is checked the same way. */
+    setenv("VORONOID_QUEUE", "many", 1);
+    const char *none[] = {NULL};
+    int rc = run_daemon(none, out, sizeof out);
+    unsetenv("VORONOID_QUEUE");
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(out, "VORONOID_QUEUE: 'many'"));
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_400_malformed),
@@ -261,6 +318,7 @@ int main(void) {
         cmocka_unit_test(test_413_too_large),
         cmocka_unit_test(test_415_422),
         cmocka_unit_test(test_still_healthy),
+        cmocka_unit_test(test_bad_flags_exit_2),
     };
     return cmocka_run_group_tests_name("integration/errors", tests, setup,
                                        teardown);
