@@ -50,6 +50,13 @@ int api__needs_clip(const api_request *r);
  * sites. */
 void api__default_box(const vor_sites *s, double box[4]);
 
+/* Writes the first difference between diagrams p (computed by a) and q
+ * (by b) into msg, in terms of counts, then vertices, edges, rays, cells;
+ * returns 0 (msg untouched) if there is none. (compute.c) */
+int api__diagram_difference(const vor_diagram *p, const vor_diagram *q,
+                            const char *a, const char *b, char *msg,
+                            size_t size);
+
 /* ---- Writers (write_*.c) ------------------------------------------------- */
 
 /* Each appends one document for res to out; the timings member is written

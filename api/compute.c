@@ -127,9 +127,7 @@ void api_compare_clear(api_compare *c) {
     api_compare_init(c);
 }
 
-/* Writes the first difference between diagrams p (of algorithm a) and q (of
- * b) into msg; returns 0 if there is none. */
-static int first_difference(const vor_diagram *p, const vor_diagram *q,
+int api__diagram_difference(const vor_diagram *p, const vor_diagram *q,
                             const char *a, const char *b, char *msg,
                             size_t size) {
 #define DIFF_COUNT(field, what)                                              \
@@ -242,7 +240,7 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
         if (!vor_diagram_equal(dp, dq)) {
             c->agree = 0;
             if (c->disagreement[0] == 0 &&
-                !first_difference(dp, dq, vor_algorithm_name((vor_algorithm)ref),
+                !api__diagram_difference(dp, dq, vor_algorithm_name((vor_algorithm)ref),
                                   name, c->disagreement, sizeof c->disagreement)) {
                 snprintf(c->disagreement, sizeof c->disagreement,
                          "%s and %s differ", vor_algorithm_name((vor_algorithm)ref),

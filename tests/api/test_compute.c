@@ -1,0 +1,307 @@
+/* test_compute.c -- api_compute and api_compare_run on real diagrams from
+ * the core, and the writers' round trips on them.
+ *
+ * For every standard test set (tests/support/testsets.h) and every
+ * algorithm: compute with all parts and a box, check the diagram with
+ * vor_check, write it in every format and read it back with the
+ * independent readers of result_check.h (bit-identical coordinates). Then
+ * the comparison (the algorithms must agree whenever all of them run),
+ * the refusals (non-finite points with their pointer), and the default
+ * box. An algorithm the core does not provide yet (501) is reported and
+ * skipped, never counted as a pass of its checks. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../../api/codec.h"
+#include "../support/testsets.h"
+#include "result_check.h"
+
+static int available[VOR_ALGORITHM_COUNT];
+
+static int setup(void **state) {
+    (void)state;
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        double xy[] = {0, 0, 1, 0, 0, 1, 1, 1.5};
+        vor_sites *s;
+        vor_diagram *d = NULL;
+        if (vor_sites_new(xy, 4, &s, NULL) != VOR_OK) {
+            printf("# vor_sites_new fails: nothing here can run\n");
+            return -1;
+        }
+        available[a] = vor_compute(s, (vor_algorithm)a, &d) == VOR_OK;
+        vor_diagram_free(d);
+        vor_sites_free(s);
+        if (!available[a]) {
+            printf("# %s: not available from the core; its checks are skipped\n",
+                   vor_algorithm_name((vor_algorithm)a));
+        }
+    }
+    return 0;
+}
+
+static api_request request_for(const double *xy, size_t n, vor_algorithm a,
+                               unsigned parts, const double *box) {
+    api_request r;
+    api_request_init(&r);
+    r.algorithm = a;
+    r.parts = parts;
+    r.parts_given = 1;
+    if (n > 0) {
+        r.xy = malloc(2 * n * sizeof(double));
+        memcpy(r.xy, xy, 2 * n * sizeof(double));
+    }
+    r.n = n;
+    if (box) {
+        memcpy(r.bounds, box, sizeof r.bounds);
+        r.has_bounds = 1;
+    }
+    return r;
+}
+
+/* Computes and writes every format for one set and one algorithm. */
+static void round_trip(const char *name, const double *xy, size_t n, vor_algorithm a) {
+    double box[4];
+    api_request r = request_for(xy, n, a, API_PART_ALL, NULL);
+    api_result res;
+    api_problem p;
+    api_result_init(&res);
+    /* No bounds: "clipped" uses the default box. */
+    api_code c = api_compute(&r, &res, &p);
+    if (c != API_OK) fail_msg("%s/%s: %s", name, vor_algorithm_name(a), p.detail);
+    api__default_box(res.sites, box);
+    assert_true(box[0] == res.clipped->box[0] && box[3] == res.clipped->box[3]);
+    char msg[256];
+    if (vor_check(res.diagram, res.sites, msg, sizeof msg) != 0) {
+        fail_msg("%s/%s: invalid diagram: %s", name, vor_algorithm_name(a), msg);
+    }
+    assert_true(res.t.prepare_ms >= 0 && res.t.compute_ms >= 0 && res.t.clip_ms >= 0);
+    for (int f = API_FMT_JSON; f <= API_FMT_BINARY; f++) {
+        r.format = (api_format)f;
+        api_buf out;
+        api_buf_init(&out);
+        api_timings t = res.t;
+        if (api_write_result(&r, &res, &t, &out, &p) != API_OK) {
+            fail_msg("%s: write %d: %s", name, f, p.detail);
+        }
+        switch (f) {
+        case API_FMT_JSON: rc_check_json(out.data, out.len, &res, API_PART_ALL, 0); break;
+        case API_FMT_GEOJSON: rc_check_geojson(out.data, out.len, &res); break;
+        case API_FMT_SVG:
+            /* Sites far outside the picture are left out; these sets have
+             * none (the box holds every site). */
+            rc_check_svg(out.data, out.len, &res);
+            break;
+        default: rc_check_binary(out.data, out.len, &res, 1); break;
+        }
+        api_buf_clear(&out);
+    }
+    api_result_clear(&res);
+    api_request_clear(&r);
+}
+
+static void test_sets_round_trip(void **state) {
+    (void)state;
+    size_t count = vt_count();
+    for (size_t i = 0; i < count; i++) {
+        vt_set set;
+        if (vt_make(i, &set) != 0) fail_msg("cannot make set %zu", i);
+        /* The writers are O(output); keep the biggest sets to a sample. */
+        size_t n = set.n > 3000 ? 3000 : set.n;
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            if (available[a]) round_trip(set.name, set.xy, n, (vor_algorithm)a);
+        }
+        vt_set_free(&set);
+    }
+}
+
+static void test_compare_agrees(void **state) {
+    (void)state;
+    size_t count = vt_count();
+    for (size_t i = 0; i < count; i++) {
+        vt_set set;
+        if (vt_make(i, &set) != 0) fail_msg("cannot make set %zu", i);
+        size_t n = set.n > 3000 ? 3000 : set.n;
+        api_request r = request_for(set.xy, n, VOR_FORTUNE, API_PART_DEFAULT, NULL);
+        api_compare c;
+        api_problem p;
+        api_compare_init(&c);
+        c.t.parse_ms = 1;
+        if (api_compare_run(&r, &c, &p) != API_OK) fail_msg("%s: %s", set.name, p.detail);
+        int all = 1;
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            assert_int_equal(c.status[a] == VOR_OK, available[a]);
+            all &= available[a];
+        }
+        if (all != c.agree) {
+            fail_msg("%s: agree = %d with all algorithms available = %d: %s", set.name,
+                     c.agree, all, c.disagreement);
+        }
+        if (!c.agree) assert_true(c.disagreement[0] != 0);
+        api_buf out;
+        api_buf_init(&out);
+        assert_int_equal(api_write_compare(&r, &c, &out, &p), API_OK);
+        json_error_t err;
+        json_t *j = json_loadb(out.data, out.len, 0, &err);
+        if (j == NULL) fail_msg("compare document: %s", err.text);
+        assert_int_equal(json_is_true(json_object_get(j, "agree")), c.agree);
+        assert_int_equal(json_integer_value(json_object_get(j, "n_input")), (json_int_t)n);
+        json_decref(j);
+        api_buf_clear(&out);
+        api_compare_clear(&c);
+        api_request_clear(&r);
+        vt_set_free(&set);
+    }
+}
+
+/* A first difference is explained, in the terms of the canonical form. */
+static void test_difference_explained(void **state) {
+    (void)state;
+    int a = -1;
+    for (int k = 0; k < VOR_ALGORITHM_COUNT; k++) if (available[k]) a = k;
+    if (a < 0) skip();
+    /* Moving the fourth site changes a vertex; a fifth site adds some. */
+    double xy1[] = {0, 0, 1, 0, 0, 1, 1, 1.5, 5, 5};
+    double xy2[] = {0, 0, 1, 0, 0, 1, 1, 2, 5, 5};
+    api_request r1 = request_for(xy1, 5, (vor_algorithm)a, 0, NULL);
+    api_request r2 = request_for(xy2, 5, (vor_algorithm)a, 0, NULL);
+    api_request r3 = request_for(xy1, 4, (vor_algorithm)a, 0, NULL);
+    api_result x, y, z;
+    api_problem p;
+    api_result_init(&x);
+    api_result_init(&y);
+    api_result_init(&z);
+    assert_int_equal(api_compute(&r1, &x, &p), API_OK);
+    assert_int_equal(api_compute(&r2, &y, &p), API_OK);
+    assert_int_equal(api_compute(&r3, &z, &p), API_OK);
+    char msg[256] = "";
+    assert_int_equal(api__diagram_difference(x.diagram, x.diagram, "A", "B", msg,
+                                             sizeof msg), 0);
+    assert_string_equal(msg, "");
+    assert_int_equal(api__diagram_difference(x.diagram, y.diagram, "A", "B", msg,
+                                             sizeof msg), 1);
+    if (strncmp(msg, "vertex ", 7) != 0 && strstr(msg, "B has") == NULL) {
+        fail_msg("unexpected explanation: %s", msg);
+    }
+    assert_int_equal(api__diagram_difference(x.diagram, z.diagram, "A", "B", msg,
+                                             sizeof msg), 1);
+    assert_string_equal(msg, "B has 4 sites, A has 5");
+    api_result_clear(&x);
+    api_result_clear(&y);
+    api_result_clear(&z);
+    api_request_clear(&r1);
+    api_request_clear(&r2);
+    api_request_clear(&r3);
+}
+
+static void test_nonfinite(void **state) {
+    (void)state;
+    static const struct {
+        double xy[6];
+        const char *pointer, *words;
+    } cases[] = {
+        {{0, 0, NAN, 1, 2, 2}, "/points/1/0", "points[1][0] is NaN"},
+        {{0, 0, 1, 1, 2, -INFINITY}, "/points/2/1", "points[2][1] is -Infinity"},
+        {{INFINITY, 0, 1, 1, 2, 2}, "/points/0/0", "points[0][0] is Infinity"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        api_request r = request_for(cases[i].xy, 3, VOR_BOWYER_WATSON, API_PART_DEFAULT, NULL);
+        api_result res;
+        api_problem p;
+        api_result_init(&res);
+        assert_int_equal(api_compute(&r, &res, &p), API_INVALID);
+        assert_string_equal(p.pointer, cases[i].pointer);
+        if (strstr(p.detail, cases[i].words) == NULL) fail_msg("detail: %s", p.detail);
+        assert_null(res.sites);
+        assert_null(res.diagram);
+        api_compare c;
+        api_compare_init(&c);
+        assert_int_equal(api_compare_run(&r, &c, &p), API_INVALID);
+        assert_string_equal(p.pointer, cases[i].pointer);
+        api_request_clear(&r);
+    }
+}
+
+static void test_small_inputs(void **state) {
+    (void)state;
+    /* 0, 1 and 2 points, and all duplicates: the degenerate diagrams. */
+    static const double xy[] = {3, 4, 3, 4, 5, 4};
+    static const size_t sizes[] = {0, 1, 2, 3};
+    for (size_t k = 0; k < 4; k++) {
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            api_request r = request_for(xy, sizes[k], (vor_algorithm)a, API_PART_ALL, NULL);
+            api_result res;
+            api_problem p;
+            api_result_init(&res);
+            api_code c = api_compute(&r, &res, &p);
+            if (c != API_OK) fail_msg("n=%zu %s: %s", sizes[k], vor_algorithm_name(a), p.detail);
+            api_buf out;
+            api_buf_init(&out);
+            assert_int_equal(api_write_result(&r, &res, &res.t, &out, &p), API_OK);
+            rc_check_json(out.data, out.len, &res, API_PART_ALL, 0);
+            api_buf_clear(&out);
+            r.format = API_FMT_GEOJSON;
+            assert_int_equal(api_write_result(&r, &res, &res.t, &out, &p), API_OK);
+            rc_check_geojson(out.data, out.len, &res);
+            api_buf_clear(&out);
+            api_result_clear(&res);
+            api_request_clear(&r);
+        }
+    }
+}
+
+static void test_default_box(void **state) {
+    (void)state;
+    static const struct {
+        double xy[4];
+        size_t n;
+    } cases[] = {
+        {{0, 0, 10, 5}, 2},         {{3, 3, 0, 0}, 1},      {{1e300, -1e300, 0, 0}, 1},
+        {{-1.7976931348623157e308, 1.7976931348623157e308, 0, 0}, 1},
+        {{-1.7976931348623157e308, -1, 1.7976931348623157e308, 1}, 2},
+        {{1e-300, 0, 2e-300, 0}, 2}, {{5e-324, 0, 0, 0}, 1},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        vor_sites *s;
+        assert_int_equal(vor_sites_new(cases[i].xy, cases[i].n, &s, NULL), VOR_OK);
+        double b[4];
+        api__default_box(s, b);
+        for (int k = 0; k < 4; k++) assert_true(isfinite(b[k]));
+        assert_true(b[0] < b[2] && b[1] < b[3]);
+        for (size_t j = 0; j < s->n; j++) {
+            double x = s->xy[2 * j], y = s->xy[2 * j + 1];
+            assert_true(b[0] <= x && x <= b[2] && b[1] <= y && y <= b[3]);
+            /* Strictly inside unless the site sits at the end of the doubles. */
+            if (fabs(x) < 1.7976931348623157e308) assert_true(b[0] < x && x < b[2]);
+        }
+        vor_sites_free(s);
+    }
+    double b[4];
+    api__default_box(NULL, b);
+    assert_true(b[0] == -1 && b[1] == -1 && b[2] == 1 && b[3] == 1);
+    /* 10% of the larger side, both ways. */
+    vor_sites *s;
+    double xy[] = {0, 0, 10, 5};
+    assert_int_equal(vor_sites_new(xy, 2, &s, NULL), VOR_OK);
+    api__default_box(s, b);
+    assert_true(b[0] == -1 && b[1] == -1 && b[2] == 11 && b[3] == 6);
+    vor_sites_free(s);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sets_round_trip),
+        cmocka_unit_test(test_compare_agrees),
+        cmocka_unit_test(test_difference_explained),
+        cmocka_unit_test(test_nonfinite),
+        cmocka_unit_test(test_small_inputs),
+        cmocka_unit_test(test_default_box),
+    };
+    return cmocka_run_group_tests_name("api/compute", tests, setup, NULL);
+}
