@@ -1,7 +1,7 @@
 /* routes.c -- matching a method and path against the route table.
  *
- * Exact paths first, then the asset catch-all (any path the asset store
- * knows, for GET and HEAD). A path that exists with another method gives
+ * Exact paths first, then the /problems/ prefix, then the asset catch-all
+ * (any path the asset store knows, for GET and HEAD). A path that exists with another method gives
  * 405 and the Allow list; OPTIONS is allowed wherever the path exists
  * (CORS preflight). Linear in the number of routes; no allocation.
  */
@@ -67,6 +67,10 @@ srv_match srv_route_match(const char *method, const char *path,
             break;
         }
     }
+    /* /problems/<type>: the handler knows the types (404 for others). */
+    if (found == SRV_ROUTE_PROBLEM ||
+        (path != NULL && strncmp(path, "/problems/", 10) == 0 && path[10]))
+        found = path[10] ? SRV_ROUTE_PROBLEM : SRV_ROUTE_OTHER;
     if (found == SRV_ROUTE_OTHER && path != NULL && path[0] == '/' &&
         has_asset != NULL && has_asset(path, ctx))
         found = SRV_ROUTE_ASSET;

@@ -2,9 +2,10 @@
  * path, and what Allow says when the method does not fit.
  *
  * The table is static and small (a dozen paths), so matching is a linear
- * scan of exact paths; static assets under the page (/app.js, /style.css,
- * ...) match a catch-all "asset" route for GET and HEAD when the asset
- * store has the file. Handlers themselves live in server.c; this module
+ * scan of exact paths; "/problems/" matches every path under it (the
+ * problem type documents, RFC 9457 type URIs); static assets under the
+ * page (/app.js, /style.css, ...) match a catch-all "asset" route for GET
+ * and HEAD when the asset store has the file. Handlers themselves live in server.c; this module
  * only names them, so it can be tested without a socket.
  */
 #ifndef VOR_SRV_ROUTES_H
@@ -22,6 +23,7 @@
     X(SRV_ROUTE_HEALTHZ, "/healthz", SRV_M_GET | SRV_M_HEAD)       \
     X(SRV_ROUTE_READYZ, "/readyz", SRV_M_GET | SRV_M_HEAD)         \
     X(SRV_ROUTE_METRICS, "/metrics", SRV_M_GET | SRV_M_HEAD)       \
+    X(SRV_ROUTE_PROBLEM, "/problems/", SRV_M_GET | SRV_M_HEAD)     \
     X(SRV_ROUTE_ASSET, "asset", SRV_M_GET | SRV_M_HEAD)            \
     X(SRV_ROUTE_OTHER, "other", 0)
 

@@ -618,6 +618,79 @@ static enum MHD_Result handle_options(req *q, struct MHD_Connection *conn) {
     return send_response(q, conn, 204, resp, 0);
 }
 
+/* What each problem type means, for GET /problems/<type> (the type URIs
+ * of problem documents are relative, so they lead here). */
+static const char *const problem_help[API_CODE_COUNT] = {
+    [API_MALFORMED] = "The request body or a query parameter could not be "
+                      "read: a syntax error, an unknown or repeated key, a "
+                      "binary body whose length is not a multiple of 16, or "
+                      "an unknown query parameter. The pointer (JSON) or "
+                      "line (text) member says where.",
+    [API_NOT_FOUND] = "Nothing is served at this path.",
+    [API_METHOD] = "The path exists but not with this method; the Allow "
+                   "header lists the methods it takes.",
+    [API_TOO_LARGE] = "The body is larger than the service accepts "
+                      "(--max-body), or it holds or asks for more points "
+                      "than the service computes at once (--max-points).",
+    [API_MEDIA_TYPE] = "The Content-Type is not one the service reads: "
+                       "application/json, text/csv, text/plain or "
+                       "application/octet-stream.",
+    [API_NOT_ACCEPTABLE] = "The Accept header names nothing the service "
+                           "produces: application/json, "
+                           "application/geo+json, image/svg+xml or "
+                           "application/octet-stream.",
+    [API_INVALID] = "The request is well-formed but a value is not "
+                    "acceptable: a coordinate that is not finite, bounds "
+                    "that are not a box, an unknown algorithm, format, part "
+                    "or distribution. The pointer or line member says where.",
+    [API_INTERNAL] = "The service failed in a way it should not; the "
+                     "request id in X-Request-Id finds it in the log.",
+    [API_UNAVAILABLE] = "The service cannot take the request now: every "
+                        "worker is busy and the queue is full, memory ran "
+                        "out, or it is shutting down. Retry after the "
+                        "seconds in Retry-After.",
+    [API_TIMEOUT] = "The answer was not ready within the service's "
+                    "deadline (--timeout), counted from the moment the "
+                    "request was received; send fewer points.",
+    [API_NOT_IMPLEMENTED] = "The algorithm asked for is not available in "
+                            "this build of the service.",
+};
+
+static enum MHD_Result handle_problem_type(req *q, struct MHD_Connection *conn) {
+    const char *slug = q->path + strlen("/problems/");
+    int code = -1;
+    for (int c = 0; c < API_CODE_COUNT; c++)
+        if (c != API_OK && strcmp(api_code_slug((api_code)c), slug) == 0)
+            code = c;
+    if (code < 0)
+        return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
+                            "no such problem type");
+    api_buf b;
+    api_buf_init(&b);
+    const char *help = problem_help[code] ? problem_help[code]
+                                          : api_code_title((api_code)code);
+    api_buf_printf(&b,
+                   "<!doctype html>\n<html lang=\"en\">\n<head>\n"
+                   "<meta charset=\"utf-8\">\n<title>%s - voronoid</title>\n"
+                   "</head>\n<body>\n<h1>%s</h1>\n<p>HTTP status %d. %s</p>\n"
+                   "<p>Problem documents of this type "
+                   "(<code>application/problem+json</code>) have <code>"
+                   "\"type\": \"/problems/%s\"</code>. The whole interface "
+                   "is described in <a href=\"../openapi.yaml\">"
+                   "openapi.yaml</a>.</p>\n</body>\n</html>\n",
+                   api_code_title((api_code)code),
+                   api_code_title((api_code)code),
+                   api_code_http((api_code)code), help, slug);
+    if (b.oom) {
+        api_buf_clear(&b);
+        return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
+                            "out of memory");
+    }
+    size_t len;
+    char *text = api_buf_take(&b, &len);
+    return send_text(q, conn, 200, "text/html; charset=utf-8", text, len, 0);
+}
+
 typedef struct opt_list {
     size_t n;
     int overflow;
@@ -872,6 +945,8 @@ static enum MHD_Result on_complete(req *q, struct MHD_Connection *conn) {
         return handle_json_status(q, conn, "{\"status\":\"ready\"}");
     case SRV_ROUTE_METRICS:
         return handle_metrics(q, conn);
+    case SRV_ROUTE_PROBLEM:
+        return handle_problem_type(q, conn);
     case SRV_ROUTE_OTHER:
     case SRV_ROUTE_COUNT:
         break;

@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#include "../../api/api.h"
 #include "harness.h"
 
 static it_daemon d;
@@ -254,6 +255,32 @@ static void test_still_healthy(void **state) {
     it_free(&r);
 }
 
+/* The type URI of every problem leads to a page about it. */
+static void test_problem_type_pages(void **state) {
+    (void)state;
+    for (int c = 0; c < API_CODE_COUNT; c++) {
+        if (c == API_OK) continue;
+        char path[96];
+        snprintf(path, sizeof path, "/problems/%s", api_code_slug((api_code)c));
+        it_req q = {.path = path};
+        it_resp r;
+        it_http(&d, &q, &r);
+        if (c == API_MALFORMED) it_save("problem-type", &q, &r);
+        if (r.status != 200) fail_msg("%s: %ld", path, r.status);
+        char h[128];
+        assert_string_equal(it_header(&r, "Content-Type", h, sizeof h),
+                            "text/html; charset=utf-8");
+        assert_non_null(strstr(r.body, api_code_title((api_code)c)));
+        it_free(&r);
+    }
+    it_req q = {.path = "/problems/no-such-thing"};
+    it_resp r;
+    it_http(&d, &q, &r);
+    it_save("problem-type-404", &q, &r);
+    assert_int_equal(r.status, 404);
+    it_free(&r);
+}
+
 /* Runs $VOR_DAEMON with args; returns its exit status, its output in out. */
 static int run_daemon(const char *const *args, char *out, size_t cap) {
     char tmpl[] = "/tmp/voronoid-flags-XXXXXX";
@@ -318,6 +345,7 @@ int main(void) {
         cmocka_unit_test(test_413_too_large),
         cmocka_unit_test(test_415_422),
         cmocka_unit_test(test_still_healthy),
+        cmocka_unit_test(test_problem_type_pages),
         cmocka_unit_test(test_bad_flags_exit_2),
     };
     return cmocka_run_group_tests_name("integration/errors", tests, setup,

@@ -38,6 +38,8 @@ static void test_exact_routes(void **state) {
         {"HEAD", "/style.css", SRV_ROUTE_ASSET},
         {"OPTIONS", "/voronoi", SRV_ROUTE_VORONOI},
         {"OPTIONS", "/", SRV_ROUTE_PAGE},
+        {"GET", "/problems/too-large", SRV_ROUTE_PROBLEM},
+        {"HEAD", "/problems/anything", SRV_ROUTE_PROBLEM},
     };
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; i++) {
         srv_route r;
@@ -52,7 +54,8 @@ static void test_exact_routes(void **state) {
 static void test_not_found(void **state) {
     (void)state;
     const char *paths[] = {"/voronoi/", "/Voronoi", "/nope", "", "/app.jsx",
-                           "/../etc/passwd", "/healthz?x", "//", NULL};
+                           "/../etc/passwd", "/healthz?x", "//", "/problems/",
+                           "/problems", NULL};
     for (int i = 0; paths[i]; i++) {
         srv_route r = SRV_ROUTE_VORONOI;
         char allow[48];
@@ -81,6 +84,7 @@ static void test_method_not_allowed_lists_allow(void **state) {
         {"POST", "/metrics", "GET, HEAD, OPTIONS"},
         {"PATCH", "/app.js", "GET, HEAD, OPTIONS"},
         {"BREW", "/healthz", "GET, HEAD, OPTIONS"},
+        {"POST", "/problems/invalid", "GET, HEAD, OPTIONS"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         srv_route r;
