@@ -13,7 +13,8 @@
  *      connection stays open (keep-alive).
  *   data calls: the body is appended to a buffer sized from Content-Length
  *      (chunked bodies grow, limited to --max-body as they arrive; the rest
- *      of an oversized body is read and dropped, then 413).
+ *      of an oversized body is read and dropped, then 413, unless it goes
+ *      on past 4 x --max-body: then the connection is closed).
  *   last call (no more data): static routes answer at once. POST /voronoi
  *      and /compare become a compute_job: the connection is suspended and the
  *      job queued in the srv_pool. Queue full -> 503 + Retry-After.
@@ -125,6 +126,7 @@ typedef struct req {
     char *body;
     size_t len, cap;
     int too_large;
+    size_t dropped;       /* body bytes read and thrown away */
     uint64_t content_length;
     int has_cl;
     api_input kind;
@@ -881,9 +883,17 @@ static enum MHD_Result on_headers(req *q, struct MHD_Connection *conn) {
 
 static enum MHD_Result on_data(req *q, const char *data, size_t n) {
     size_t max = q->srv->cfg.max_body;
-    if (!q->collect || q->too_large) return MHD_YES; /* read and dropped */
+    if (!q->collect || q->too_large) {
+        /* Read and dropped, so that the answer (413, 404, 405) can be sent
+         * on a connection that stays usable. A sender that goes on far
+         * past the limit is cut off instead: that costs it the answer,
+         * not us an unbounded transfer. */
+        q->dropped += n;
+        return q->dropped / 4 > max ? MHD_NO : MHD_YES;
+    }
     if (n > max - q->len) {
         q->too_large = 1;
+        q->dropped = q->len + n;
         free(q->body);
         q->body = NULL;
         q->len = q->cap = 0;
