@@ -28,54 +28,39 @@
 
 #define XY(v) (xy + 2 * (size_t)(v))
 
-/* A growable stack of 32-bit values. */
-typedef struct stack {
-    uint32_t *v;
-    size_t n, cap;
-} stack;
-
-static int stack_grow(stack *s) {
-    size_t cap = s->cap ? 2 * s->cap : 64;
-    uint32_t *v = realloc(s->v, cap * sizeof *v);
-    if (!v)
-        return -1;
-    s->v = v;
-    s->cap = cap;
-    return 0;
-}
-
-static inline int push(stack *s, uint32_t x) {
-    if (s->n == s->cap && stack_grow(s))
-        return -1;
-    s->v[s->n++] = x;
-    return 0;
-}
-
+/* Construction state. The two scratch arrays share one capacity, which
+ * starts at 256 and doubles when a cavity needs more. */
 typedef struct bw {
     vor__mesh *m;
     const double *xy;
     vor__walk w;
-    stack todo;   /* half-edges of cavity triangles still to look across */
-    stack cavity; /* cavity triangles, in the order found */
-    stack bound;  /* twins of the boundary edges, counter-clockwise */
+    uint32_t *cav; /* cavity triangles in the order found: the free slots */
+    uint32_t *bnd; /* twins of the boundary edges, counter-clockwise */
+    size_t cap;
 } bw;
 
-/* Non-zero if p is strictly inside the circumcircle of the triangle of
- * half-edge f (ghost rule of mesh.h for a ghost). */
-static inline int conflict(const uint32_t *tri, const double *xy, uint32_t f,
-                           const double *p) {
-    uint32_t a = tri[f], b = tri[vor__next(f)], c = tri[vor__prev(f)];
-    if (c == VOR__GHOST)
-        return vor__ghost_conflict(XY(a), XY(b), p);
-    if (a == VOR__GHOST)
-        return vor__ghost_conflict(XY(b), XY(c), p);
-    if (b == VOR__GHOST)
-        return vor__ghost_conflict(XY(c), XY(a), p);
-    return vor__incircle_fast(XY(a), XY(b), XY(c), p) > 0;
+/* Marks a cavity triangle during the search, in its first vertex slot
+ * (the vertices of cavity triangles are not needed once they are known to
+ * conflict: the new triangles take theirs from the boundary). */
+#define MARK (VOR__GHOST - 1)
+
+/* Doubles the scratch capacity. -1 if out of memory (an array that did
+ * grow is kept; cap is unchanged). */
+static int grow(bw *st) {
+    size_t cap = st->cap ? 2 * st->cap : 256;
+    uint32_t *v;
+    if (!(v = realloc(st->cav, cap * sizeof *v)))
+        return -1;
+    st->cav = v;
+    if (!(v = realloc(st->bnd, cap * sizeof *v)))
+        return -1;
+    st->bnd = v;
+    st->cap = cap;
+    return 0;
 }
 
-/* Inserts site p. VOR_ENOMEM if a stack cannot grow (the mesh is then
- * unchanged). */
+/* Inserts vertex p. VOR_ENOMEM if the scratch arrays cannot grow; the
+ * mesh is then inconsistent and only good for vor__mesh_clear. */
 static vor_status insert(bw *st, uint32_t p) {
     vor__mesh *m = st->m;
     uint32_t *tri = m->tri;
@@ -86,25 +71,67 @@ static vor_status insert(bw *st, uint32_t p) {
     uint32_t t0 = vor__mesh_locate(m, xy, p, &st->w, &on_edge);
     (void)on_edge; /* a triangle with p on an edge is in conflict too */
 
-    /* Cavity search. Popping e means: look across e from inside the
-     * cavity. A conflicting neighbour joins the cavity and its other two
-     * edges are pushed so that next(f) is looked across before prev(f);
-     * that keeps the boundary in counter-clockwise order. */
-    st->todo.n = st->cavity.n = st->bound.n = 0;
-    if (push(&st->cavity, t0) || push(&st->todo, 3 * t0 + 2) ||
-        push(&st->todo, 3 * t0 + 1) || push(&st->todo, 3 * t0))
-        return VOR_ENOMEM;
-    while (st->todo.n) {
-        uint32_t e = st->todo.v[--st->todo.n];
-        uint32_t f = (uint32_t)adj[e];
-        if (conflict(tri, xy, f, pp)) {
-            if (push(&st->cavity, f / 3) || push(&st->todo, vor__prev(f)) ||
-                push(&st->todo, vor__next(f)))
+    /* Cavity search: a walk around the boundary of the cavity, which is a
+     * tree of triangles (a depth-first tour without a stack). Being at
+     * half-edge e of a cavity triangle means: look across e. Across it is
+     *   - a marked triangle: the one we came from; go back into it and
+     *     on to the edge after the one we left it by: e = next(adj[e]);
+     *   - a triangle whose circumcircle strictly contains p (ghost rule of
+     *     mesh.h for ghosts): mark it, record it, go in and on to the edge
+     *     after the one we entered by: e = next(adj[e]);
+     *   - otherwise a boundary edge: record its twin, e = next(e).
+     * The tour visits the boundary counter-clockwise and ends when it is
+     * back at the first edge of the first triangle.
+     *
+     *          ____________             e0 = 3 t0; the tour goes round
+     *         /\    u    /\            each triangle counter-clockwise,
+     *        /  \   ^   /  \           dives into u through its twin
+     *       /    \  | e/    \          edge and comes back out of u by
+     *      /______\ | /______\         the same edge
+     *             t0
+     */
+    uint32_t *cav = st->cav, *bnd = st->bnd;
+    size_t cap = st->cap, ncav = 1, nb = 0;
+    cav[0] = t0;
+    tri[3 * t0] = MARK;
+    uint32_t e0 = 3 * t0, e = e0;
+    do {
+        if (ncav + 3 > cap || nb + 1 > cap) {
+            if (grow(st))
                 return VOR_ENOMEM;
-        } else if (push(&st->bound, f)) {
-            return VOR_ENOMEM;
+            cav = st->cav;
+            bnd = st->bnd;
+            cap = st->cap;
         }
-    }
+        uint32_t f = (uint32_t)adj[e];
+        uint32_t u = f / 3, k = f - 3 * u;
+        uint32_t nf = k == 2 ? f - 2 : f + 1;
+        uint32_t a = tri[f], b = tri[nf];
+        int in;
+        if (tri[3 * u] == MARK) {
+            in = 1;
+        } else {
+            uint32_t c = tri[k == 0 ? f + 2 : f - 1];
+            if (c == VOR__GHOST)
+                in = vor__ghost_conflict(XY(a), XY(b), pp);
+            else if (a == VOR__GHOST)
+                in = vor__ghost_conflict(XY(b), XY(c), pp);
+            else if (b == VOR__GHOST)
+                in = vor__ghost_conflict(XY(c), XY(a), pp);
+            else
+                in = vor__incircle_fast(XY(a), XY(b), XY(c), pp) > 0;
+            if (in) {
+                tri[3 * u] = MARK;
+                cav[ncav++] = u;
+            }
+        }
+        if (in) {
+            e = nf;
+        } else {
+            bnd[nb++] = f;
+            e = vor__next(e);
+        }
+    } while (e != e0);
 
     /* The star. Boundary edge i, seen from outside as f = b->a, gives the
      * new triangle (a, b, p) in slot t_i:
@@ -115,22 +142,21 @@ static vor_status insert(bw *st, uint32_t p) {
      *          /   |   \          3t_i+1 + 2 (p->b) in t_i+1
      *         a----b----c
      *          (outside)
-     */
-    size_t nb = st->bound.n;
-    assert(nb == st->cavity.n + 2);
+     *
+     * The cavity's slots are reused and two come from the end of the
+     * arrays: a disk of k triangles has k + 2 boundary edges. */
+    assert(nb == ncav + 2);
     assert(m->n_tri + 2 <= m->cap_tri);
-    if (push(&st->cavity, (uint32_t)m->n_tri) ||
-        push(&st->cavity, (uint32_t)m->n_tri + 1))
-        return VOR_ENOMEM; /* nothing has been changed yet */
+    cav[ncav++] = (uint32_t)m->n_tri;
+    cav[ncav++] = (uint32_t)m->n_tri + 1;
     m->n_tri += 2;
-    const uint32_t *slot = st->cavity.v;
-    const uint32_t *bound = st->bound.v;
     uint32_t ghost = UINT32_MAX;
+    uint32_t t = cav[0];
     for (size_t i = 0; i < nb; i++) {
-        uint32_t t = slot[i], f = bound[i];
+        uint32_t f = bnd[i];
         uint32_t a = tri[vor__next(f)], b = tri[f];
-        uint32_t u = slot[i + 1 == nb ? 0 : i + 1];
-        assert(tri[vor__next(bound[i + 1 == nb ? 0 : i + 1])] == b);
+        uint32_t u = cav[i + 1 == nb ? 0 : i + 1];
+        assert(tri[vor__next(bnd[i + 1 == nb ? 0 : i + 1])] == b);
         tri[3 * t] = a;
         tri[3 * t + 1] = b;
         tri[3 * t + 2] = p;
@@ -140,10 +166,11 @@ static vor_status insert(bw *st, uint32_t p) {
         adj[3 * u + 2] = (int32_t)(3 * t + 1);
         if (a == VOR__GHOST || b == VOR__GHOST)
             ghost = t;
+        t = u;
     }
     if (ghost != UINT32_MAX)
         st->w.ghost = ghost;
-    st->w.tri = slot[0];
+    st->w.tri = cav[0];
     return VOR_OK;
 }
 
@@ -151,15 +178,22 @@ vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
                                            uint32_t *order, vor__mesh *m) {
     double *xy;
     bw st = {.m = m};
+    if (grow(&st)) {
+        free(st.cav);
+        free(st.bnd);
+        return VOR_ENOMEM;
+    }
     vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
-    if (r != VOR_OK)
+    if (r != VOR_OK) {
+        free(st.cav);
+        free(st.bnd);
         return r;
+    }
     st.xy = xy;
     for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
         r = insert(&st, v);
-    free(st.todo.v);
-    free(st.cavity.v);
-    free(st.bound.v);
+    free(st.cav);
+    free(st.bnd);
     free(xy);
     if (r != VOR_OK) {
         vor__mesh_clear(m);

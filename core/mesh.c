@@ -110,56 +110,92 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
 
 /* ---- Point location ------------------------------------------------------ */
 
+/* The walk. In the first triangle all three edges are tested; after that
+ * the walk has entered triangle t through half-edge f = a->b, knows p is
+ * strictly on the inner side of it, and tests the other two edges b->c and
+ * c->a, in an order chosen by one random bit (the top bit of a linear
+ * congruential generator): p strictly beyond an edge crosses it. The
+ * random choice keeps a walk from going round in circles in degenerate
+ * configurations; in a Delaunay triangulation a visibility walk cannot
+ * cycle anyway.
+ *
+ *              c
+ *            /   \          test b->c and c->a in random order;
+ *           /  t  \         o < 0: cross; both >= 0: p is in t
+ *          a ----- b
+ *             f (entered through)
+ */
 uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
                           vor__walk *w, int32_t *on_edge) {
     const uint32_t *tri = m->tri;
     const int32_t *adj = m->adj;
     const double *pp = XY(p);
+    uint32_t rng = w->rng;
     uint32_t t = w->tri;
     if (vor__mesh_is_ghost(tri, t)) {
-        /* Step into the finite triangle across the ghost's hull edge. */
+        /* Start in the finite triangle across the ghost's hull edge. */
         uint32_t e = 3 * t;
         while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
             e++;
         t = (uint32_t)adj[e] / 3;
     }
-    uint32_t from = UINT32_MAX; /* the half-edge we entered t by */
-    uint32_t rng = w->rng;
+    /* In the first triangle: an edge p is strictly beyond, or stop. */
+    int32_t zero = -1;
+    uint32_t k;
+    for (k = 0; k < 3; k++) {
+        uint32_t e = 3 * t + k;
+        int o = vor__orient2d_fast(XY(tri[e]), XY(tri[vor__next(e)]), pp);
+        if (o < 0)
+            break;
+        if (o == 0)
+            zero = (int32_t)e;
+    }
+    if (k == 3) {
+        w->tri = t;
+        *on_edge = zero;
+        return t;
+    }
+    uint32_t f = (uint32_t)adj[3 * t + k];
     for (;;) {
-        /* xorshift32: which edge to test first, so that no fixed order can
-         * make the walk go round in circles. */
-        rng ^= rng << 13;
-        rng ^= rng >> 17;
-        rng ^= rng << 5;
-        uint32_t first = rng % 3;
-        int32_t zero = -1;
-        uint32_t k;
-        for (k = 0; k < 3; k++) {
-            uint32_t e = 3 * t + (first + k) % 3;
-            if (e == from)
-                continue; /* p is strictly inside that edge already */
-            int o = vor__orient2d_fast(XY(tri[e]), XY(tri[vor__next(e)]), pp);
-            if (o < 0) {
-                uint32_t f = (uint32_t)adj[e];
-                t = f / 3;
-                from = f;
-                if (tri[vor__prev(f)] == VOR__GHOST) {
-                    w->tri = t;
-                    w->rng = rng;
-                    *on_edge = -1;
-                    return t;
-                }
-                break;
-            }
-            if (o == 0)
-                zero = (int32_t)e;
-        }
-        if (k == 3) {
+        uint32_t nf = vor__next(f), pf = vor__prev(f);
+        uint32_t c = tri[pf];
+        if (c == VOR__GHOST) {
+            /* p is strictly outside the hull edge we just crossed. */
+            t = f / 3;
             w->tri = t;
             w->rng = rng;
-            *on_edge = zero;
+            *on_edge = -1;
             return t;
         }
+        const double *pa = XY(tri[f]), *pb = XY(tri[nf]), *pc = XY(c);
+        rng = rng * 1103515245u + 12345u;
+        /* Edge e1 is q0->q1, edge e2 is q2->q3: b->c and c->a in either
+         * order. */
+        uint32_t e1 = nf, e2 = pf;
+        const double *q0 = pb, *q1 = pc, *q2 = pc, *q3 = pa;
+        if (rng & 0x80000000u) {
+            e1 = pf;
+            e2 = nf;
+            q0 = pc;
+            q1 = pa;
+            q2 = pb;
+            q3 = pc;
+        }
+        int o1 = vor__orient2d_fast(q0, q1, pp);
+        if (o1 < 0) {
+            f = (uint32_t)adj[e1];
+            continue;
+        }
+        int o2 = vor__orient2d_fast(q2, q3, pp);
+        if (o2 < 0) {
+            f = (uint32_t)adj[e2];
+            continue;
+        }
+        t = f / 3;
+        w->tri = t;
+        w->rng = rng;
+        *on_edge = o1 == 0 ? (int32_t)e1 : o2 == 0 ? (int32_t)e2 : -1;
+        return t;
     }
 }
 
