@@ -3,23 +3,25 @@
  * Sites are inserted in spatial order (vor__insertion_order: Hilbert curve,
  * biased randomised rounds) into a triangulation closed by ghost triangles
  * (mesh.h). For each site p: a walk from the previous insertion finds one
- * triangle whose circumcircle contains p; a depth-first search over
- * neighbours collects the cavity, all triangles whose circumcircle strictly
- * contains p (exact vor_incircle; for ghosts the half-plane rule of mesh.h);
- * the cavity is replaced by the star of p over its boundary.
+ * triangle whose circumcircle contains p; a search over neighbours collects
+ * the cavity, all triangles whose circumcircle strictly contains p (exact
+ * vor_incircle; for ghosts the half-plane rule of mesh.h); the cavity is
+ * replaced by the star of p over its boundary.
  *
  * The cavity is a disk, star-shaped from p, with all its vertices on its
- * boundary, so its dual graph is a tree: the search needs no visited marks,
- * and visiting each triangle's edges in counter-clockwise order emits the
- * boundary edges in counter-clockwise order around the cavity, so the new
- * triangles link to their neighbours in the star by position alone. A
- * cavity of k triangles has k + 2 boundary edges; the new triangles take
- * the k freed slots plus two at the end, so the mesh stays compact and the
- * arrays never grow.
+ * boundary, so its dual graph is a tree. The search is a tour around that
+ * tree, which meets the boundary edges in counter-clockwise order around
+ * the cavity, so the new triangles link to their neighbours in the star by
+ * position alone; the only cavity triangle seen again is the one the tour
+ * came from, so a mark per cavity triangle replaces a stack. A cavity of k
+ * triangles has k + 2 boundary edges; the new triangles take the k freed
+ * slots plus two at the end, so the mesh stays compact and the arrays never
+ * grow.
  *
  * Cost: expected O(1) walk steps and cavity size per site in spatial order,
- * O(n log n) with the sort; memory: the mesh (48 bytes per site), the order
- * (4 bytes per site) and three small stacks.
+ * O(n log n) with the sort; memory: the mesh (48 bytes per site), the
+ * sites copied in insertion order (16), the order (4) and two small arrays
+ * for the cavity and its boundary.
  */
 #include <assert.h>
 #include <stdlib.h>

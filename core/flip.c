@@ -25,8 +25,8 @@
  * ids stay valid.
  *
  * Cost: expected O(1) walk steps and flips per site in spatial order,
- * O(n log n) with the sort; memory: the mesh (48 bytes per site), the order
- * (4 bytes per site) and one small stack.
+ * O(n log n) with the sort; memory: the mesh (48 bytes per site), the
+ * sites copied in insertion order (16), the order (4) and one small stack.
  */
 #include <assert.h>
 #include <stdlib.h>
@@ -109,8 +109,8 @@ static void split3(flipper *st, uint32_t t, uint32_t p) {
  *           \ u | u2/
  *            \  |  /                  edges opposite p: b->c (next e),
  *              d                      c->a (3t2+2), a->d (next f), d->b
- *                                     (3u2+2); those with the ghost are
- *                                     skipped by the legaliser.
+ *                                     (3u2+2); the last two are not
+ *                                     pushed when d is the ghost vertex.
  */
 static void split4(flipper *st, uint32_t e, uint32_t p) {
     vor__mesh *m = st->m;
@@ -140,10 +140,12 @@ static void split4(flipper *st, uint32_t e, uint32_t p) {
     (void)b;
     st->stack[st->n++] = ne;
     st->stack[st->n++] = 3 * t2 + 2;
-    st->stack[st->n++] = nf;
-    st->stack[st->n++] = 3 * u2 + 2;
-    if (d == VOR__GHOST)
+    if (d != VOR__GHOST) {
+        st->stack[st->n++] = nf;
+        st->stack[st->n++] = 3 * u2 + 2;
+    } else {
         st->w.ghost = u2;
+    }
     st->w.tri = e / 3;
 }
 
@@ -243,30 +245,38 @@ static void flip(int32_t *adj, uint32_t *tri, uint32_t e, uint32_t f,
     link(adj, ne, pf);
 }
 
-/* Pops edges until the stack is empty; each pop may push two. */
+/* Pops edges until the stack is empty; each flip pushes two. Stacked
+ * edges have finite ends (split4 leaves out those of the ghost vertex);
+ * an edge whose far triangle is a ghost is a hull edge and stays. */
 static vor_status legalise(flipper *st, uint32_t p) {
     uint32_t *tri = st->m->tri;
     int32_t *adj = st->m->adj;
     const double *xy = st->xy;
     const double *pp = XY(p);
-    while (st->n) {
-        uint32_t e = st->stack[--st->n];
-        uint32_t a = tri[e], b = tri[vor__next(e)];
-        assert(tri[vor__prev(e)] == p);
-        if (a == VOR__GHOST || b == VOR__GHOST)
-            continue;
+    uint32_t *stack = st->stack;
+    size_t n = st->n;
+    while (n) {
+        uint32_t e = stack[--n];
         uint32_t f = (uint32_t)adj[e];
         uint32_t d = tri[vor__prev(f)];
+        assert(tri[vor__prev(e)] == p);
         if (d == VOR__GHOST)
             continue;
+        uint32_t a = tri[e], b = tri[vor__next(e)];
+        assert(a != VOR__GHOST && b != VOR__GHOST);
         if (vor__incircle_fast(XY(a), XY(b), pp, XY(d)) <= 0)
             continue;
-        if (reserve(st, 2))
-            return VOR_ENOMEM;
+        if (n + 2 > st->cap) {
+            st->n = n;
+            if (reserve(st, 2))
+                return VOR_ENOMEM;
+            stack = st->stack;
+        }
         flip(adj, tri, e, f, p);
-        st->stack[st->n++] = e;
-        st->stack[st->n++] = f;
+        stack[n++] = e;
+        stack[n++] = f;
     }
+    st->n = 0;
     return VOR_OK;
 }
 

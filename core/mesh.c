@@ -8,7 +8,10 @@
  * vertex VOR__GHOST (mesh.h), so the mesh is a sphere triangulation with
  * exactly 2k - 2 triangles for k inserted sites and both algorithms only
  * ever add two triangles per site: the arrays are allocated once for
- * 2n - 2 triangles (48 bytes per site) and never grow.
+ * 2n - 2 triangles (48 bytes per site) and never grow. The sites are
+ * copied in insertion order (16 bytes per site, freed at the end) and the
+ * mesh numbers them by rank, so that spatially close vertices are close in
+ * memory too.
  *
  * Cost: vor__mesh_begin O(n) (allocation, local copy of the coordinates),
  * vor__mesh_locate O(length of the walk), short in spatial insertion order;
@@ -40,14 +43,14 @@ void vor__mesh_clear(vor__mesh *m) {
 /* ---- Start ---------------------------------------------------------------
  *
  * The first triangle a, b, c (counter-clockwise) in slot 0 and one ghost per
- * edge in slots 1..3. Ghost 1 + k sits on edge k of slot 0:
+ * edge in slots 1..3; every ghost's third vertex is GHOST:
  *
- *              GHOST
- *             /  |  \            slot 0: (a, b, c)
- *            /   c   \           ghost on edge a->b: (b, a, GHOST)
- *           /  /   \  \          ghost on edge b->c: (c, b, GHOST)
- *            a ----- b           ghost on edge c->a: (a, c, GHOST)
- *              GHOST
+ *              c
+ *             / \           slot 0: (a, b, c)
+ *       3    /   \    2     slot 1: (b, a, GHOST), across edge 0 = a->b
+ *           /  0  \         slot 2: (c, b, GHOST), across edge 1 = b->c
+ *          a ----- b        slot 3: (a, c, GHOST), across edge 2 = c->a
+ *              1
  *
  * Ghost g = 1 + k is (y, x, GHOST) for edge k = x->y of slot 0; its edge
  * x->GHOST (3g+1) is the twin of GHOST->x in the ghost of the edge that ends
