@@ -38,6 +38,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -508,7 +509,7 @@ static int cmd_ours(const opts *o) {
            "vertices=%zu triangles=%zu status=%s\n",
            o->algo, n, r.median_ms, r.min_ms, r.runs,
            r.peak_bytes >= 0 ? r.peak_bytes / (double)n : -1.0, r.vertices,
-           nt, vor_status_name(st));
+           nt, st == VOR_OK ? "ok" : vor_status_name(st));
     free(tri);
     vor_diagram_free(d);
     vor_sites_free(sites);
@@ -692,8 +693,23 @@ static int cmd_check(const opts *o) {
     return ok ? 0 : 1;
 }
 
+/* Caps this process's address space (and so its children's) at
+ * BENCH_MEM_LIMIT_GB GiB, 8 by default: an algorithm that runs away with
+ * memory then fails one case with VOR_ENOMEM or a crash instead of driving
+ * the machine into swap or the OOM killer. 0 disables the cap. */
+static void limit_memory(void) {
+    const char *env = getenv("BENCH_MEM_LIMIT_GB");
+    double gb = env ? strtod(env, NULL) : 8.0;
+    if (gb > 0) {
+        struct rlimit rl;
+        rl.rlim_cur = rl.rlim_max = (rlim_t)(gb * 1073741824.0);
+        setrlimit(RLIMIT_AS, &rl);
+    }
+}
+
 int main(int argc, char **argv) {
     opts o;
+    limit_memory();
     if (argc < 2 || parse_opts(argc, argv, &o) != 0) {
         usage();
         return 2;
