@@ -350,8 +350,10 @@ static int big_sign(const big *x) {
 
 /* Sign of (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x), the six coordinates
  * being multiples of 2^lo. */
-static int orient2d_big(const double *a, const double *b, const double *c,
-                        int lo) {
+/* det = (a.x-c.x)(b.y-c.y) - (a.y-c.y)(b.x-c.x) / 2^(2 lo), the six
+ * coordinates being multiples of 2^lo. */
+static void orient2d_big_det(const double *a, const double *b,
+                             const double *c, int lo, big *det) {
     big p, q, acx, acy, bcx, bcy, l, r;
     big_from_double(&p, a[0], lo);
     big_from_double(&q, c[0], lo);
@@ -365,8 +367,27 @@ static int orient2d_big(const double *a, const double *b, const double *c,
     big_add(&bcy, &p, &q, 1);
     big_mul(&l, &acx, &bcy);
     big_mul(&r, &acy, &bcx);
-    big_add(&p, &l, &r, 1);
-    return big_sign(&p);
+    big_add(det, &l, &r, 1);
+}
+
+static int orient2d_big(const double *a, const double *b, const double *c,
+                        int lo) {
+    big det;
+    orient2d_big_det(a, b, c, lo, &det);
+    return big_sign(&det);
+}
+
+/* x * 2^e rounded to long double (relative error below 2^-63: the two
+ * top limbs hold at least 65 significant bits). */
+static long double big_to_long(const big *x, int e) {
+    if (x->n == 0)
+        return 0;
+    long double v = (long double)x->d[x->n - 1];
+    v = ldexpl(v, GMP_NUMB_BITS);
+    if (x->n >= 2)
+        v += (long double)x->d[x->n - 2];
+    v = ldexpl(v, e + GMP_NUMB_BITS * (int)(x->n - 2));
+    return x->neg ? -v : v;
 }
 
 /* One row of the incircle determinant: lift(p) * (qx ry - rx qy), where
@@ -483,6 +504,37 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
     exp_negate(nr, r);
     int nd = exp_sum(nl, l, nr, r, det);
     return exp_sign(nd, det);
+}
+
+long double vor__orient2d_value(const double *a, const double *b,
+                                const double *c) {
+    double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
+    int hi, lo;
+    if (!operand_range(v, 6, &hi, &lo))
+        return 0;
+    if (hi - lo > 537) {
+        big det;
+        orient2d_big_det(a, b, c, lo, &det);
+        return big_to_long(&det, 2 * lo);
+    }
+    const double *pts[3] = {a, b, c};
+    double w[6];
+    int s = -hi; /* always rescale: the value is returned unscaled below */
+    rescale(pts, 3, s, w);
+    const double *sa = w, *sb = w + 2, *sc = w + 4;
+    double ex[2], ey[2], fx[2], fy[2], l[8], r[8], det[16];
+    int nex = exp_diff(sa[0], sc[0], ex), ney = exp_diff(sa[1], sc[1], ey);
+    int nfx = exp_diff(sb[0], sc[0], fx), nfy = exp_diff(sb[1], sc[1], fy);
+    int nl = exp_mul2(nex, ex, nfy, fy, l);
+    int nr = exp_mul2(ney, ey, nfx, fx, r);
+    exp_negate(nr, r);
+    int nd = exp_sum(nl, l, nr, r, det);
+    /* smallest first: the long double sum of a non-overlapping expansion
+     * is within an ulp or two of its value */
+    long double sum = 0;
+    for (int i = 0; i < nd; i++)
+        sum += det[i];
+    return ldexpl(sum, -2 * s);
 }
 
 /* Adds one incircle row, lift(p) * (qx ry - rx qy), where p, q, r are

@@ -101,6 +101,15 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c);
 int vor__incircle_exact(const double *a, const double *b, const double *c,
                         const double *d);
 
+/* The value of the orient2d determinant, (a.x-c.x)(b.y-c.y) -
+ * (a.y-c.y)(b.x-c.x), computed exactly and rounded to long double
+ * (relative error below 2^-62; long double holds every such value).
+ * Zero exactly when the points are collinear. For constructions that
+ * need the determinant of a very flat triangle (vor_circumcenter); too
+ * slow for decisions, which need only the sign. */
+long double vor__orient2d_value(const double *a, const double *b,
+                                const double *c);
+
 /* Sign of orient2d from the filter alone: +1 or -1 when proven, 0 when the
  * filter cannot decide (0 says nothing about collinearity). */
 static inline int vor__orient2d_filter(const double *a, const double *b,

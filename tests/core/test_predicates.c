@@ -558,6 +558,63 @@ static void test_exact_constructions(void **state) {
     assert_int_equal(cocircular, 20000);
 }
 
+/* ---- the determinant's value --------------------------------------------- */
+
+/* vor__orient2d_value against the rational determinant: relative error
+ * below 2^-62, zero exactly when collinear, on ordinary, near-collinear
+ * and wide-range input. */
+static void test_orient_value(void **state) {
+    (void)state;
+    mpq_t ax, ay, bx, by, cx, cy, l, r, got, err;
+    mpq_inits(ax, ay, bx, by, cx, cy, l, r, got, err, NULL);
+    const double mags[] = {1, 1e300, 1e-300, 0x1p-1074, 1e150, 3};
+    for (int k = 0; k < 30000; k++) {
+        double p[3][2];
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 2; j++)
+                p[i][j] = rng_sym() * mags[rng_int(k % 3 == 0 ? 6 : 1)];
+        if (k % 4 == 1) /* near-collinear */
+            for (int j = 0; j < 2; j++)
+                p[2][j] = p[0][j] + 0.375 * (p[1][j] - p[0][j]);
+        long double v = vor__orient2d_value(p[0], p[1], p[2]);
+        mpq_set_d(ax, p[0][0]);
+        mpq_set_d(ay, p[0][1]);
+        mpq_set_d(bx, p[1][0]);
+        mpq_set_d(by, p[1][1]);
+        mpq_set_d(cx, p[2][0]);
+        mpq_set_d(cy, p[2][1]);
+        mpq_sub(ax, ax, cx);
+        mpq_sub(ay, ay, cy);
+        mpq_sub(bx, bx, cx);
+        mpq_sub(by, by, cy);
+        mpq_mul(l, ax, by);
+        mpq_mul(r, ay, bx);
+        mpq_sub(l, l, r); /* exact determinant */
+        int sign = mpq_sgn(l);
+        assert_int_equal((v > 0) - (v < 0), sign);
+        if (sign == 0)
+            continue;
+        /* |v - det| <= 2^-62 |det|; v = +-M 2^(e-64) with a 64-bit M */
+        int e;
+        long double m = frexpl(fabsl(v), &e);
+        mpz_set_ui(mpq_numref(got), (unsigned long)ldexpl(m, 64));
+        mpz_set_ui(mpq_denref(got), 1);
+        if (v < 0)
+            mpq_neg(got, got);
+        if (e - 64 >= 0)
+            mpq_mul_2exp(got, got, (mp_bitcnt_t)(e - 64));
+        else
+            mpq_div_2exp(got, got, (mp_bitcnt_t)(64 - e));
+        mpq_sub(err, got, l);
+        mpq_abs(err, err);
+        mpq_abs(l, l);
+        mpq_div_2exp(l, l, 62);
+        assert_true(mpq_cmp(err, l) <= 0);
+        n_checked++;
+    }
+    mpq_clears(ax, ay, bx, by, cx, cy, l, r, got, err, NULL);
+}
+
 /* ---- small hand-made cases ---------------------------------------------- */
 
 static void test_basic_signs(void **state) {
@@ -636,6 +693,7 @@ int main(void) {
         cmocka_unit_test(test_exact_constructions),
         cmocka_unit_test(test_integer_lattices),
         cmocka_unit_test(test_random_bulk),
+        cmocka_unit_test(test_orient_value),
     };
     return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
                                        report_total);
