@@ -769,10 +769,11 @@
         let cellPaths = null;
         if (D.clip && D.clip.start.length > 1) {
             const st = D.clip.start, cxy = D.clip.xy;
+            const colour = colourCells(D, dup, st.length - 1);
             cellPaths = COLOR.cells.map(() => new Path2D());
             for (let i = 0; i + 1 < st.length; i++) {
                 if (st[i + 1] - st[i] < 3) continue;
-                const path = cellPaths[(Math.imul(i, 2654435761) >>> 0) % cellPaths.length];
+                const path = cellPaths[colour[i]];
                 path.moveTo((cxy[2 * st[i]] - cx) * k, (cxy[2 * st[i] + 1] - cy) * k);
                 for (let j = st[i] + 1; j < st[i + 1]; j++) path.lineTo((cxy[2 * j] - cx) * k, (cxy[2 * j + 1] - cy) * k);
                 path.closePath();
@@ -794,10 +795,44 @@
             /* model area the sites cover (their box), for dot sizes */
             area: ref ? Math.max((ref[2] - ref[0]) * k * (ref[3] - ref[1]) * k, 1e-3) : 1,
         };
-        if (fitNext) {
+        if (fitNext || view.fitted) {
             fitView();
             fitNext = false;
         }
+    }
+
+    /* Colours for the cells (one per distinct site, in input order) so that
+     * neighbours differ: greedy over the sites, a neighbour being a site
+     * across a Voronoi edge. With few colours greedy can run out at a
+     * site of high degree; that site then takes a hashed colour. O(E). */
+    function colourCells(D, dup, nSites) {
+        const nIn = dup.length, nc = COLOR.cells.length;
+        const siteOf = new Int32Array(nIn).fill(-1);
+        let j = 0;
+        for (let i = 0; i < nIn; i++) if (!dup[i]) siteOf[i] = j++;
+        const start = new Uint32Array(nSites + 1), ne = D.esites.length / 2;
+        for (let e = 0; e < ne; e++) {
+            const a = siteOf[D.esites[2 * e]], b = siteOf[D.esites[2 * e + 1]];
+            if (a >= 0 && b >= 0 && a < nSites && b < nSites) { start[a + 1]++; start[b + 1]++; }
+        }
+        for (let i = 0; i < nSites; i++) start[i + 1] += start[i];
+        const adj = new Int32Array(start[nSites]), fill = start.slice(0, nSites);
+        for (let e = 0; e < ne; e++) {
+            const a = siteOf[D.esites[2 * e]], b = siteOf[D.esites[2 * e + 1]];
+            if (a >= 0 && b >= 0 && a < nSites && b < nSites) { adj[fill[a]++] = b; adj[fill[b]++] = a; }
+        }
+        const colour = new Int8Array(nSites).fill(-1);
+        for (let i = 0; i < nSites; i++) {
+            let used = 0;
+            for (let k = start[i]; k < start[i + 1]; k++) {
+                const c = colour[adj[k]];
+                if (c >= 0) used |= 1 << c;
+            }
+            let c = 0;
+            while (c < nc && (used & (1 << c))) c++;
+            colour[i] = c < nc ? c : (Math.imul(i, 2654435761) >>> 0) % nc;
+        }
+        return colour;
     }
 
     /* A diagram record of points alone (no answer yet). */
@@ -931,18 +966,18 @@
         return t0 <= t1 ? [t0, t1] : null;
     }
 
+    /* Grid lines at round world coordinates under the diagram; returns
+     * their labels, which drawLabels() writes over everything. */
     function drawGrid() {
         const w = visibleWorld();
         const spanX = w[2] - w[0];
-        if (!(spanX > 0) || !isFinite(spanX)) return;
+        if (!(spanX > 0) || !isFinite(spanX)) return [];
         const target = spanX / Math.max(2, cssW / 110);
         const mag = Math.pow(10, Math.floor(Math.log10(target)));
         const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => s >= target) || 10 * mag;
         ctx.save();
         ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
         ctx.lineWidth = 1;
-        ctx.font = '11px system-ui, sans-serif';
-        ctx.fillStyle = COLOR.gridText;
         const sxOf = (x) => cssW / 2 + ((x - frame.cx) * frame.k - view.mx) * view.zoom;
         const syOf = (y) => cssH / 2 - ((y - frame.cy) * frame.k - view.my) * view.zoom;
         const path = new Path2D(), axes = new Path2D();
@@ -969,8 +1004,21 @@
         ctx.stroke(path);
         ctx.strokeStyle = COLOR.gridAxis;
         ctx.stroke(axes);
+        ctx.restore();
+        return labels;
+    }
+
+    function drawLabels(labels) {
+        ctx.save();
+        ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+        ctx.font = '11px system-ui, sans-serif';
+        ctx.lineJoin = 'round';
+        ctx.lineWidth = 3;
+        ctx.strokeStyle = 'rgba(251, 251, 248, 0.85)';
+        ctx.fillStyle = COLOR.gridText;
         for (const l of labels) {
             ctx.textAlign = l[3];
+            ctx.strokeText(l[0], l[1], l[2]);
             ctx.fillText(l[0], l[1], l[2]);
         }
         ctx.restore();
@@ -1044,7 +1092,7 @@
         ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
         ctx.fillStyle = COLOR.background;
         ctx.fillRect(0, 0, cssW, cssH);
-        drawGrid();
+        const labels = drawGrid();
         let edgesDrawn = 0, raysDrawn = 0, sitesDrawn = 0, trisDrawn = 0;
         if (geom) {
             const z = view.zoom;
@@ -1110,6 +1158,7 @@
                 sitesDrawn = geom.ns <= DOTS_AS_PIXELS ? drawSiteDiscs(z) : drawSitePixels(z);
             }
         }
+        drawLabels(labels);
         pub.edgesDrawn = edgesDrawn;
         pub.raysDrawn = raysDrawn;
         pub.sitesDrawn = sitesDrawn;
@@ -1216,6 +1265,7 @@
         }
         source.points.push(p);
         describeSource();
+        view.fitted = false; /* the view stays put while points are added */
         /* show the point at once; the diagram follows */
         if (!geom) setResult(pointsOnly([p]), true);
         else {
@@ -1680,6 +1730,12 @@
         });
         $('bounds').addEventListener('change', () => {
             if ($('show-clip').checked && pub.lastResult) compute();
+        });
+        $('bounds').addEventListener('keydown', (ev) => {
+            if (ev.key !== 'Enter') return;
+            ev.preventDefault();
+            $('show-clip').checked = true;
+            compute();
         });
         $('bounds-view').addEventListener('click', () => {
             const w = visibleWorld();
