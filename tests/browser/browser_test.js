@@ -1,15 +1,16 @@
 /* browser_test.js -- the voronoid page driven in a real Chromium.
  *
- * Starts the daemon (VOR_DAEMON, default build/voronoid) on 127.0.0.1 with
- * --port 0, reads the port it announces, opens GET / in Debian's Chromium
- * (through playwright-core, headless, a fresh profile) and acts as a person
- * would: generates points and computes with each algorithm, uploads a CSV
- * file, uploads a broken one, clicks points in, pans and zooms, compares the
- * three algorithms, runs a small size sweep, downloads an SVG. Each step
- * asserts on what the page shows (text, table rows, canvas pixels) and on
- * the state it exposes in window.voronoid; any console error or uncaught
- * page error fails the run. Screenshots go to VOR_BROWSER_OUT (default
- * build/browser). The daemon is stopped at the end, also on failure.
+ * Starts the daemon (VOR_DAEMON, default $B/voronoid, B defaulting to
+ * build) on 127.0.0.1 with --port 0, reads the port it announces, opens
+ * GET / in Debian's Chromium (through playwright-core, headless, a fresh
+ * profile) and acts as a person would: generates points and computes with
+ * each algorithm, uploads a CSV file and a broken one, drops a JSON file,
+ * clicks points in, pans and zooms, compares the three algorithms, runs a
+ * small size sweep, downloads an SVG, draws 10^5 points. Each step asserts
+ * on what the page shows (text, table rows, canvas pixels) and on the
+ * state it exposes in window.voronoid; any console error, uncaught page
+ * error or failed request fails the run. Screenshots go to VOR_BROWSER_OUT
+ * (default $B/browser). The daemon is stopped at the end, also on failure.
  *
  * Environment: VOR_DAEMON (daemon binary), VOR_WEB_DIR (serve the page from
  * this directory with --web-dir instead of the embedded copy), VOR_CHROMIUM
@@ -26,9 +27,11 @@ const path = require('path');
 const { chromium } = require('playwright-core');
 
 const ROOT = path.resolve(__dirname, '..', '..');
-const DAEMON = path.resolve(ROOT, process.env.VOR_DAEMON || 'build/voronoid');
+/* make exports a B given on its command line (make B=build-x browser) */
+const BUILD = process.env.B || 'build';
+const DAEMON = path.resolve(ROOT, process.env.VOR_DAEMON || path.join(BUILD, 'voronoid'));
 const CHROMIUM = process.env.VOR_CHROMIUM || '/usr/bin/chromium';
-const OUT = path.resolve(ROOT, process.env.VOR_BROWSER_OUT || 'build/browser');
+const OUT = path.resolve(ROOT, process.env.VOR_BROWSER_OUT || path.join(BUILD, 'browser'));
 const WEB_DIR = process.env.VOR_WEB_DIR ? path.resolve(ROOT, process.env.VOR_WEB_DIR) : '';
 const STEP_TIMEOUT = 60000;
 
@@ -257,11 +260,13 @@ async function main() {
                 .filter((el) => !(el.labels && el.labels.length) && !el.getAttribute('aria-label') && !el.textContent.trim())
                 .map((el) => el.id || el.outerHTML.slice(0, 60)));
             assert(unlabelled.length === 0, 'controls without a label: ' + unlabelled.join(', '));
-            if (WEB_DIR) {
-                for (const f of ['index.html', 'app.js', 'style.css']) {
-                    const served = await page.evaluate((u) => fetch(u).then((r) => r.text()), base + (f === 'index.html' ? '' : f));
-                    assert(served === fs.readFileSync(path.join(WEB_DIR, f), 'utf8'), f + ' served differs from ' + WEB_DIR);
-                }
+            /* the daemon serves the page as it is in the tree (a stale
+             * embedded copy means the binary needs a rebuild) */
+            const dir = WEB_DIR || path.join(ROOT, 'web');
+            for (const f of ['index.html', 'app.js', 'style.css']) {
+                const served = await page.evaluate((u) => fetch(u).then((r) => r.text()), base + (f === 'index.html' ? '' : f));
+                assert(served === fs.readFileSync(path.join(dir, f), 'utf8'),
+                    f + ' as served differs from ' + path.relative(ROOT, path.join(dir, f)) + ' (rebuild the daemon: make)');
             }
         });
 
