@@ -208,6 +208,11 @@
         if (p.retryAfter) bits.push('The service asks to try again in ' + p.retryAfter + ' s.');
         $('error-title').textContent = title;
         $('error-detail').textContent = bits.join(' ');
+        /* the service documents each problem type at its type URI, written
+         * from the root; read relative to the page so a path prefix holds */
+        const more = $('error-more');
+        more.hidden = !/^\/problems\/[a-z-]+$/.test(p.type || '');
+        if (!more.hidden) more.href = new URL('.' + p.type, document.baseURI).toString();
         $('error').hidden = false;
         document.body.dataset.state = 'error';
         setStatus('Error: ' + title);

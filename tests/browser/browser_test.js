@@ -431,6 +431,10 @@ async function main() {
                 assert(title.includes(s.lastError.title), 'shown title "' + title + '"');
                 assert(detail.includes(s.lastError.detail), 'shown detail "' + detail + '"');
                 assert(/\b3\b/.test(detail), 'the message does not name line 3: "' + detail + '"');
+                const more = await page.locator('#error-more').getAttribute('href');
+                assert(more && more.endsWith('/problems/malformed'), 'link to the problem type: ' + more);
+                const status = await page.evaluate((u) => fetch(u).then((r) => r.status), more);
+                assert(status === 200, more + ' answers ' + status);
                 /* the previous diagram stays on screen */
                 assert((await canvasPixels(page, 'diagram')).edge > 500, 'the canvas went blank');
                 await page.screenshot({ path: path.join(OUT, 'error.png') });
