@@ -63,16 +63,39 @@ inline int count_digits(uint64_t v) {
     return k + (v >= pow10_table[k]);
 }
 
-// Writes exactly n digits of v (with leading zeros; v < 10^n) at o.
-inline void put_fixed(uint64_t v, int n, char *o) {
+// Writes exactly n digits of v (with leading zeros; v < 10^n, n <= 10) at
+// o, two at a time, in 32-bit arithmetic.
+__attribute__((always_inline)) inline void put_fixed32(uint32_t v, int n, char *o) {
     char *p = o + n;
     while (p - o >= 2) {
-        unsigned r = (unsigned)(v % 100);
+        uint32_t r = v % 100;
         v /= 100;
         p -= 2;
         std::memcpy(p, digit_pairs + 2 * r, 2);
     }
     if (p > o) *--p = (char)('0' + v % 10);
+}
+
+// Exactly eight digits of v < 10^8, without a loop.
+__attribute__((always_inline)) inline void put8(uint32_t v, char *o) {
+    uint32_t a = v / 10000, b = v % 10000;
+    std::memcpy(o, digit_pairs + 2 * (a / 100), 2);
+    std::memcpy(o + 2, digit_pairs + 2 * (a % 100), 2);
+    std::memcpy(o + 4, digit_pairs + 2 * (b / 100), 2);
+    std::memcpy(o + 6, digit_pairs + 2 * (b % 100), 2);
+}
+
+// Writes exactly n digits of v (with leading zeros; v < 10^n, n <= 19)
+// at o: eight digits at a time from the right (one 64-bit division each,
+// then 32-bit arithmetic), the rest two at a time.
+__attribute__((always_inline)) inline void put_fixed(uint64_t v, int n, char *o) {
+    while (n >= 8) {
+        uint64_t q = v / 100000000;
+        put8((uint32_t)(v - q * 100000000), o + n - 8);
+        v = q;
+        n -= 8;
+    }
+    put_fixed32((uint32_t)v, n, o);
 }
 
 }  // namespace
@@ -184,8 +207,7 @@ extern "C" size_t api_num_format(double v, char *buf) {
     } else if (pos <= 0 && pos > -6) {
         *o++ = '0';
         *o++ = '.';
-        std::memset(o, '0', (size_t)-pos);
-        o += -pos;
+        for (int i = 0; i < -pos; i++) *o++ = '0';
         put_fixed(sig, k, o);
         o += k;
     } else {
