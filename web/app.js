@@ -1483,7 +1483,7 @@
             }
         }
         const all = ALGORITHMS.flatMap((a) => series[a]);
-        const L = 50, R = 12, T = 10, B = 38;
+        const L = 50, R = 18, T = 10, B = 38;
         const pw = g.w - L - R, ph = g.h - T - B;
         if (!all.length) {
             c.strokeStyle = '#cfd2ca';
