@@ -160,8 +160,14 @@ static hpt crossing(const double *box, int k, const hpt *p, double hp,
     hpt x;
     if (p->w && q->w) {
         double t = hp / (hp - hq);
-        x.x = p->x + t * (q->x - p->x);
-        x.y = p->y + t * (q->y - p->y);
+        double dx = q->x - p->x, dy = q->y - p->y;
+        if (isfinite(dx) && isfinite(dy)) {
+            x.x = p->x + t * dx;
+            x.y = p->y + t * dy;
+        } else { /* corners near +-DBL_MAX: the difference overflows */
+            x.x = p->x * (1 - t) + q->x * t;
+            x.y = p->y * (1 - t) + q->y * t;
+        }
         x.w = 1;
     } else if (p->w || q->w) { /* finite F, direction D: F + s D */
         const hpt *f = p->w ? p : q, *dd = p->w ? q : p;
@@ -299,6 +305,10 @@ static size_t cell_polygon(const vor_diagram *d, const size_t *ray_of,
  * no area remain. Returns the number of points written. */
 static size_t emit_ring(const double *box, const hpt *poly, size_t n,
                         double *out) {
+    /* differences are scaled by a power of two (exact) before they are
+     * multiplied, so that the area test neither overflows for boxes near
+     * 1e300 nor underflows for boxes near 1e-300 */
+    const double sc = ldexp(1.0, -ilogb(fmax(box[2] - box[0], box[3] - box[1])));
     size_t m = 0;
     for (size_t u = 0; u < n; u++) {
         if (poly[u].w == 0) continue;
@@ -314,8 +324,8 @@ static size_t emit_ring(const double *box, const hpt *poly, size_t n,
     double area2 = 0;
     for (size_t u = 0; u < m; u++) {
         size_t v = u + 1 == m ? 0 : u + 1;
-        area2 += (out[2 * u] - out[0]) * (out[2 * v + 1] - out[1]) -
-                 (out[2 * v] - out[0]) * (out[2 * u + 1] - out[1]);
+        area2 += ((out[2 * u] - out[0]) * sc) * ((out[2 * v + 1] - out[1]) * sc) -
+                 ((out[2 * v] - out[0]) * sc) * ((out[2 * u + 1] - out[1]) * sc);
     }
     if (!(area2 > 0)) return 0;
     out[2 * m] = out[0];

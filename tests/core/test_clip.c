@@ -9,6 +9,7 @@
  * the box on the bisector of their two sites. Random sets use fixed seeds,
  * printed.
  */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -84,8 +85,14 @@ static vor_diagram *diagram_of(const vor_sites *s) {
     return d;
 }
 
+/* Scale applied to coordinate differences before they are multiplied, an
+ * exact power of two chosen per box so that areas of boxes at 1e300 or
+ * 1e-300 neither overflow nor underflow. */
+static double sc = 1.0;
+
 static double cross3(const double *o, const double *a, const double *b) {
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    return ((a[0] - o[0]) * sc) * ((b[1] - o[1]) * sc) -
+           ((a[1] - o[1]) * sc) * ((b[0] - o[0]) * sc);
 }
 
 /* Point p inside (or on, within tol) the closed convex ccw ring of m + 1
@@ -102,8 +109,14 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
     vor_clipped *c = NULL;
     assert_int_equal(vor_clip(d, s, box, &c), VOR_OK);
     assert_memory_equal(c->box, box, 4 * sizeof *box);
-    const double w = box[2] - box[0], h = box[3] - box[1];
-    const double tol = 1e-9 * w * h;
+    sc = ldexp(1.0, -ilogb(fmax(box[2] - box[0], box[3] - box[1])));
+    const double w = (box[2] - box[0]) * sc, h = (box[3] - box[1]) * sc;
+    /* computed corners are off by a few ulps of the coordinates' magnitude:
+     * far from the origin (offset 1e9) that dominates */
+    double mag = 0;
+    for (int k = 0; k < 4; k++) mag = fmax(mag, fabs(box[k]));
+    const double ulps = 64 * DBL_EPSILON * mag * sc;
+    const double tol = 1e-9 * w * h + ulps * (w + h);
     double total = 0;
     assert_int_equal(c->poly_start[0], 0);
     for (size_t i = 0; i < s->n; i++) {
@@ -119,8 +132,7 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
             const double *p = ring + 2 * u;
             if (p[0] < box[0] || p[0] > box[2] || p[1] < box[1] || p[1] > box[3])
                 fail_msg("%s: cell %zu point %zu outside the box", what, i, u);
-            area2 += (p[0] - ring[0]) * (p[3] - ring[1]) -
-                     (p[2] - ring[0]) * (p[1] - ring[1]);
+            area2 += cross3(ring, p, p + 2);
             /* convex and counter-clockwise: every corner turns left */
             const double *q = ring + 2 * ((u + 1) % m), *r = ring + 2 * ((u + 2) % m);
             if (cross3(p, q, r) < -tol)
@@ -143,7 +155,8 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
         size_t best = 0;
         double bd = INFINITY, second = INFINITY;
         for (size_t i = 0; i < s->n; i++) {
-            double dx = s->xy[2 * i] - corner[0], dy = s->xy[2 * i + 1] - corner[1];
+            double dx = (s->xy[2 * i] - corner[0]) * sc;
+            double dy = (s->xy[2 * i + 1] - corner[1]) * sc;
             double dd = dx * dx + dy * dy;
             if (dd < bd) {
                 second = bd;
@@ -175,7 +188,7 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
                 fail_msg("%s: edge %zu end %d outside the box", what, e, t);
             double da = hypot(p[0] - a[0], p[1] - a[1]);
             double db = hypot(p[0] - b[0], p[1] - b[1]);
-            if (fabs(da - db) > 1e-7 * (da + db + w))
+            if (fabs(da - db) > 1e-7 * (da + db + w / sc) + ulps / sc)
                 fail_msg("%s: edge %zu end %d is not on the bisector", what, e, t);
         }
     }
@@ -218,6 +231,54 @@ static void test_random_sets(void **state) {
         }
         vor_diagram_free(d);
         sites_done(s);
+    }
+}
+
+/* Algorithm output on every standard set: the sites' bounding box grown by
+ * 10% (every cell meets it) and a box over the middle third. */
+static void test_standard_sets(void **state) {
+    (void)state;
+    for (size_t k = 0; k < vt_count(); k++) {
+        vt_set set;
+        assert_int_equal(vt_make(k, &set), 0);
+        vor_sites *s = sites_of(set.xy, set.n);
+        vor_diagram *d = NULL;
+        assert_int_equal(vor_compute(s, VOR_FLIP, &d), VOR_OK);
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (size_t i = 0; i < s->n; i++)
+            for (int j = 0; j < 2; j++) {
+                if (s->xy[2 * i + j] < lo[j]) lo[j] = s->xy[2 * i + j];
+                if (s->xy[2 * i + j] > hi[j]) hi[j] = s->xy[2 * i + j];
+            }
+        for (int j = 0; j < 2 && s->n > 0; j++)
+            if (hi[j] == lo[j]) {
+                lo[j] -= 1;
+                hi[j] += 1;
+            }
+        double w = hi[0] - lo[0], h = hi[1] - lo[1];
+        if (s->n == 0) {
+            printf("  %-20s skipped\n", set.name);
+        } else {
+            char what[80];
+            double grown[4] = {lo[0] - w / 10, lo[1] - h / 10, hi[0] + w / 10,
+                               hi[1] + h / 10};
+            double mid[4] = {lo[0] + w / 3, lo[1] + h / 3, hi[0] - w / 3, hi[1] - h / 3};
+            snprintf(what, sizeof what, "%s, grown box", set.name);
+            check_clip(d, s, grown, what);
+            snprintf(what, sizeof what, "%s, middle box", set.name);
+            check_clip(d, s, mid, what);
+            /* grown box: every cell meets it */
+            vor_clipped *c = NULL;
+            assert_int_equal(vor_clip(d, s, grown, &c), VOR_OK);
+            for (size_t i = 0; i < s->n; i++)
+                if (c->poly_start[i + 1] == c->poly_start[i])
+                    fail_msg("%s: cell %zu misses the grown bounding box", set.name, i);
+            vor_clipped_free(c);
+            printf("  %-20s ok\n", set.name);
+        }
+        vor_diagram_free(d);
+        sites_done(s);
+        vt_set_free(&set);
     }
 }
 
@@ -372,6 +433,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_square_exact),
         cmocka_unit_test(test_random_sets),
+        cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_degenerate_cells),
         cmocka_unit_test(test_overflowing_vertex),
         cmocka_unit_test(test_bad_boxes),
