@@ -171,8 +171,9 @@ api_code api_parse_body(api_request *r, api_input kind, const char *body,
 
 /* Applies one option given outside the body (query string, CLI flag):
  * "algorithm", "bounds" ("xmin,ymin,xmax,ymax"), "format" (json, geojson,
- * svg, binary), "include" (comma-separated part names). Unknown keys give
- * API_MALFORMED; bad values API_INVALID. */
+ * svg, binary, timings), "include" (comma-separated part names, possibly
+ * none). Applied after api_parse_body, they win over the body's options.
+ * Unknown keys give API_MALFORMED; bad values API_INVALID (r unchanged). */
 api_code api_request_option(api_request *r, const char *key, const char *value,
                             api_problem *p);
 
