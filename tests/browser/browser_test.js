@@ -521,20 +521,32 @@ async function main() {
             await page.screenshot({ path: path.join(OUT, 'page.png'), fullPage: true });
         });
 
-        await step('the SVG download is an SVG of the diagram', async () => {
-            const before = await state(page);
-            const [dl] = await Promise.all([
-                Promise.race([
-                    page.waitForEvent('download'),
-                    waitOrError(page, () => false, null, before.errorCount),
-                ]),
-                page.click('.download button[data-format=svg]'),
-            ]);
-            assert(/\.svg$/.test(dl.suggestedFilename()), 'file name ' + dl.suggestedFilename());
-            const file = await dl.path();
-            const body = fs.readFileSync(file, 'utf8');
-            assert(/<svg[\s>]/.test(body), 'not an SVG: ' + body.slice(0, 80));
-            assert((body.match(/<(line|path|polyline|polygon)\b/g) || []).length > 0, 'the SVG draws nothing');
+        await step('the JSON, GeoJSON and SVG downloads hold the diagram', async () => {
+            /* the last diagram is the compare step's 1000 generated points */
+            const shown = (await state(page)).result;
+            const fetchDownload = async (format) => {
+                const before = await state(page);
+                const [dl] = await Promise.all([
+                    Promise.race([
+                        page.waitForEvent('download'),
+                        waitOrError(page, () => false, null, before.errorCount),
+                    ]),
+                    page.click('.download button[data-format=' + format + ']'),
+                ]);
+                assert(dl.suggestedFilename().endsWith('.' + format), 'file name ' + dl.suggestedFilename());
+                return fs.readFileSync(await dl.path(), 'utf8');
+            };
+            const json = JSON.parse(await fetchDownload('json'));
+            assert(json.n_sites === shown.n_sites && json.n_edges === shown.n_edges,
+                'JSON download: ' + json.n_sites + ' sites, ' + json.n_edges + ' edges; shown ' + shown.n_sites + ', ' + shown.n_edges);
+            assert(Array.isArray(json.cells) && json.cells.length === json.n_sites, 'JSON download without cells');
+            assert(Array.isArray(json.edges) && json.edges.length === json.n_edges, 'JSON download without edges');
+            const geo = JSON.parse(await fetchDownload('geojson'));
+            assert(geo.type === 'FeatureCollection' && Array.isArray(geo.features) && geo.features.length > 0,
+                'GeoJSON download: ' + JSON.stringify(geo).slice(0, 80));
+            const svg = await fetchDownload('svg');
+            assert(/<svg[\s>]/.test(svg), 'not an SVG: ' + svg.slice(0, 80));
+            assert((svg.match(/<(line|path|polyline|polygon)\b/g) || []).length > 0, 'the SVG draws nothing');
         });
 
         await step('100000 points come back as binary arrays and are drawn', async () => {
