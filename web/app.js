@@ -6,6 +6,9 @@
  * to the page, so a path prefix in front of the service keeps working),
  * draws the answer on a canvas, shows the server's timings next to the
  * round trip, and runs size sweeps whose times it plots on log-log axes.
+ * Up to 20000 points it asks for JSON with only the parts it draws; above,
+ * for the binary diagram, read in place through typed arrays. Both are
+ * decoded into one record of typed arrays (see fromJson, fromBinary).
  *
  * Representation: the result's coordinates are mapped once into a "model"
  * frame, (world - centre) * k with k = 1 / (extent of the sites), so that
@@ -16,7 +19,9 @@
  * calls whatever the size. Rays and lines are clipped to the visible
  * rectangle in double precision on every frame (there are O(hull) rays,
  * or n - 1 lines for collinear input), and sites are culled and batched
- * into one path per frame so their dots keep a constant size on screen.
+ * into one path per frame (or written as pixels when there are many) so
+ * their dots keep a constant size on screen. Big paths are stroked one
+ * device pixel wide, which the rasteriser draws as a fast hairline.
  *
  * Invariants: at most one compute request is in flight (a new one aborts
  * the old); the view is kept in model units, so it survives a recompute
