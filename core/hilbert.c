@@ -1,9 +1,263 @@
-/* hilbert.c -- insertion order (placeholder: being written; identity). */
+/* hilbert.c -- the order in which the incremental algorithms insert sites:
+ * biased randomised insertion order (BRIO, Amenta, Choi and Rote 2003)
+ * with a Hilbert curve order inside each round.
+ *
+ * Why: inserting in random order bounds the expected amount of
+ * restructuring; inserting along a space-filling curve makes each point
+ * land next to the previous one, so that point location walks a step or
+ * two and the touched triangles are still in cache. BRIO keeps both: the
+ * sites are split into rounds whose sizes grow geometrically (each about as
+ * large as all earlier rounds together, the first a few dozen sites), a
+ * site's round chosen at random; rounds are inserted one after the other,
+ * each in Hilbert order.
+ *
+ * Representation: for every site one 64-bit word: its round, the top 22
+ * bits of its Hilbert key (11 per axis of the 2^16 x 2^16 grid over the
+ * bounding square: plenty to separate the sites of a round, and 22 bits
+ * sort in fewer passes than 32) and its index, in that order of
+ * significance. One least significant digit radix sort (three 9-bit
+ * digits, passes whose digit is constant skipped) puts the rounds in order
+ * and each round along the curve, equal keys in index order.
+ *
+ * The Hilbert key comes from a 4-state automaton (the state is the
+ * rotation/reflection of the current sub-square). Its 64-entry table for
+ * two bits of x and of y is derived, per call, from the one-bit rule, and
+ * a 1024-entry table for four bits at a time from that, so there is no
+ * hand-written table to get wrong.
+ *
+ * Determinism: the round of site i is drawn from a splitmix64 sequence
+ * seeded from n, so the same input gives the same order on every run and
+ * machine. Coordinates are quantised with halves (x/2 - xmin/2), so that
+ * spans up to 2 DBL_MAX do not overflow; a span of 0 (all x equal) puts
+ * every site at x = 0.
+ *
+ * Cost: O(n): one pass for the bounding box, one for keys and rounds, and
+ * four for the sort (a histogram and three scatters); 10^6 sites take
+ * about 40 ms. Memory: 16 bytes per site, freed before returning.
+ */
+#include <stdlib.h>
+#include <string.h>
+
 #include "internal.h"
 
-vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
-    (void)xy;
+/* ---- Hilbert keys ------------------------------------------------------- */
+
+/* One level of the curve, in the frame of the current sub-square: the
+ * point's bits (x, y) select a quadrant, visited in the order (0,0),
+ * (0,1), (1,1), (1,0); returns that digit (0..3) and updates the frame
+ * state (bit 0: x and y swapped, bit 1: both complemented). The lower-left
+ * quadrant's sub-curve is the transpose, the lower-right's the
+ * anti-transpose; the upper two keep the frame. */
+static unsigned hilbert_step(unsigned *state, unsigned bx, unsigned by) {
+    unsigned swap = *state & 1, flip = *state >> 1;
+    unsigned x = (swap ? by : bx) ^ flip, y = (swap ? bx : by) ^ flip;
+    unsigned digit = (x << 1) | (x ^ y);
+    if (y == 0) {
+        *state ^= 1;
+        if (x == 1)
+            *state ^= 2;
+    }
+    return digit;
+}
+
+/* table[state << 4 | x2 << 2 | y2] = next state << 4 | four key bits, for
+ * two bits x2 of x and y2 of y (most significant first). */
+static void hilbert_table(uint8_t table[64]) {
+    for (unsigned st = 0; st < 4; st++) {
+        for (unsigned xy = 0; xy < 16; xy++) {
+            unsigned s = st, x2 = xy >> 2, y2 = xy & 3;
+            unsigned hi = hilbert_step(&s, x2 >> 1, y2 >> 1);
+            unsigned lo = hilbert_step(&s, x2 & 1, y2 & 1);
+            table[st << 4 | xy] = (uint8_t)(s << 4 | hi << 2 | lo);
+        }
+    }
+}
+
+/* big[state << 8 | x4 << 4 | y4] = next state << 8 | eight key bits, for
+ * four bits of x and of y at a time, composed from two steps of table. */
+static void hilbert_table4(const uint8_t table[64], uint16_t big[1024]) {
+    for (unsigned st = 0; st < 4; st++) {
+        for (unsigned xy = 0; xy < 256; xy++) {
+            unsigned x4 = xy >> 4, y4 = xy & 15;
+            unsigned e1 = table[st << 4 | (x4 >> 2) << 2 | (y4 >> 2)];
+            unsigned e2 = table[(e1 >> 4) << 4 | (x4 & 3) << 2 | (y4 & 3)];
+            big[st << 8 | xy] =
+                (uint16_t)((e2 >> 4) << 8 | (e1 & 15) << 4 | (e2 & 15));
+        }
+    }
+}
+
+/* Key of the cell (x, y) of the 2^16 x 2^16 grid: its position along the
+ * curve. */
+static inline uint32_t hilbert_key(const uint16_t big[1024], uint32_t x,
+                                   uint32_t y) {
+    uint32_t key = 0;
+    unsigned state = 0;
+    for (int shift = 12; shift >= 0; shift -= 4) {
+        unsigned e = big[state << 8 | ((x >> shift) & 15) << 4 |
+                         ((y >> shift) & 15)];
+        key = key << 8 | (e & 255);
+        state = e >> 8;
+    }
+    return key;
+}
+
+/* ---- Quantisation -------------------------------------------------------- */
+
+typedef struct quantiser {
+    double lo2;   /* min / 2 */
+    double inv;   /* 65535.99 / (span / 2) when finite */
+    double half;  /* span / 2 */
+} quantiser;
+
+/* Cell 0..65535 of v along one axis. NaN (not expected: sites are
+ * validated) lands in cell 0 rather than in undefined behaviour. */
+static inline uint32_t quantise(const quantiser *q, double v) {
+    double t = v * 0.5 - q->lo2; /* in [0, half] */
+    double c = q->inv != 0 ? t * q->inv : t / q->half * 65535.99;
+    if (c >= 65535)
+        return 65535;
+    return c >= 0 ? (uint32_t)c : 0;
+}
+
+/* Quantiser for values in [lo, lo + 2 half], over a square of side
+ * 2 half (the larger of the two spans). */
+static void quantiser_init(quantiser *q, double lo, double half) {
+    q->lo2 = lo * 0.5;
+    q->half = half;
+    q->inv = 0;
+    if (half > 0) {
+        double inv = 65535.99 / half;
+        if (inv <= 0x1p1000) /* finite with room: the usual case */
+            q->inv = inv;
+    }
+}
+
+/* ---- Sorting ------------------------------------------------------------ */
+
+/* Layout of a sort word: site index in the low 30 bits, the top KEY_BITS
+ * of its Hilbert key above, its round above that. Sorting the words by
+ * bits 30..63 orders by round, then by key, then (stably) by index. */
+#define INDEX_BITS 30
+#define KEY_BITS 22
+#define SORT_BITS 27 /* KEY_BITS + 5 bits of round */
+
+/* Sorts w[0..n-1] by bits INDEX_BITS .. INDEX_BITS + SORT_BITS - 1, stably,
+ * with tmp (n words): least significant digit first, three 9-bit digits,
+ * a pass skipped when all words share its digit. The result is in w. */
+static void sort_words(uint64_t *w, uint64_t *tmp, size_t n) {
+    enum { BITS = 9, BUCKETS = 1 << BITS, PASSES = SORT_BITS / BITS };
+    uint32_t count[PASSES][BUCKETS]; /* n <= 2^30 */
+    memset(count, 0, sizeof count);
     for (size_t i = 0; i < n; i++)
-        order[i] = (uint32_t)i;
+        for (int p = 0; p < PASSES; p++)
+            count[p][(w[i] >> (INDEX_BITS + BITS * p)) & (BUCKETS - 1)]++;
+    uint64_t *src = w, *dst = tmp;
+    for (int p = 0; p < PASSES; p++) {
+        int shift = INDEX_BITS + BITS * p;
+        uint32_t *c = count[p];
+        if (c[(src[0] >> shift) & (BUCKETS - 1)] == n)
+            continue; /* every word has this digit: nothing to do */
+        uint32_t sum = 0;
+        for (int b = 0; b < BUCKETS; b++) {
+            uint32_t k = c[b];
+            c[b] = sum;
+            sum += k;
+        }
+        for (size_t i = 0; i < n; i++)
+            dst[c[(src[i] >> shift) & (BUCKETS - 1)]++] = src[i];
+        uint64_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != w)
+        memcpy(w, src, n * sizeof *w);
+}
+
+static inline uint64_t splitmix64(uint64_t *s) {
+    uint64_t z = (*s += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+/* ---- The order ----------------------------------------------------------- */
+
+/* Expected size of the first round. */
+#define FIRST_ROUND 64
+/* Rounds are numbered 0..MAX_ROUNDS-1 at most (5 bits in a sort word;
+ * 2^30 sites need 25). */
+#define MAX_ROUNDS 32
+
+vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
+    if (n == 0)
+        return VOR_OK;
+    if (n == 1) {
+        order[0] = 0;
+        return VOR_OK;
+    }
+
+    /* bounding box, and a square around it */
+    double xmin = xy[0], xmax = xy[0], ymin = xy[1], ymax = xy[1];
+    for (size_t i = 1; i < n; i++) {
+        double x = xy[2 * i], y = xy[2 * i + 1];
+        xmin = x < xmin ? x : xmin;
+        xmax = x > xmax ? x : xmax;
+        ymin = y < ymin ? y : ymin;
+        ymax = y > ymax ? y : ymax;
+    }
+    double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
+    double half = hx > hy ? hx : hy;
+    quantiser qx, qy;
+    quantiser_init(&qx, xmin, half);
+    quantiser_init(&qy, ymin, half);
+
+    /* rounds: k rounds, the last taking each site with probability 1/2,
+     * the one before 1/4, ..., the first the remaining ~FIRST_ROUND / n */
+    int k = 1;
+    while (k < MAX_ROUNDS && ((size_t)FIRST_ROUND << (k - 1)) < n)
+        k++;
+
+    uint64_t *w = malloc(n * sizeof *w);
+    uint64_t *tmp = malloc(n * sizeof *tmp);
+    if (!w || !tmp) {
+        free(w);
+        free(tmp);
+        return VOR_ENOMEM;
+    }
+
+    uint8_t table[64];
+    uint16_t big[1024];
+    hilbert_table(table);
+    hilbert_table4(table, big);
+    uint64_t seed = 0x5eed0f0b1a5edu ^ (uint64_t)n, bits = 0;
+    int nbits = 0;
+    const uint64_t last = (uint64_t)1 << (k - 1);
+    for (size_t i = 0; i < n; i++) {
+        uint32_t key = hilbert_key(big, quantise(&qx, xy[2 * i]),
+                                   quantise(&qy, xy[2 * i + 1]));
+        /* trailing zeros of a random word, capped at k-1: t with
+         * probability 2^-(t+1), k-1 with the rest; round = k-1-t */
+        if (nbits < k) {
+            bits = splitmix64(&seed);
+            nbits = 64;
+        }
+        uint64_t r = bits | last;
+        int t = 0;
+        while (!(r & 1)) {
+            r >>= 1;
+            t++;
+        }
+        bits >>= t + 1;
+        nbits -= t + 1;
+        uint64_t round = (uint64_t)(k - 1 - t);
+        w[i] = (round << KEY_BITS | key >> (32 - KEY_BITS)) << INDEX_BITS |
+               (uint64_t)i;
+    }
+    sort_words(w, tmp, n);
+    for (size_t i = 0; i < n; i++)
+        order[i] = (uint32_t)(w[i] & (((uint64_t)1 << INDEX_BITS) - 1));
+    free(w);
+    free(tmp);
     return VOR_OK;
 }

@@ -1,0 +1,281 @@
+/* test_hilbert.c -- vor__insertion_order: a deterministic permutation with
+ * spatial locality inside rounds and a random first round (BRIO).
+ *
+ * Locality is measured as the mean distance between consecutive sites of
+ * the order, against the mean for a random order of the same sites (about
+ * 0.52 times the side for uniform points in a square). Random sets use a
+ * fixed seed, printed; VOR_TEST_SEED replays another.
+ */
+#include <float.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "../../core/internal.h"
+#include "../support/testsets.h"
+
+static uint64_t seed;
+
+static int setup_seed(void **state) {
+    (void)state;
+    const char *s = getenv("VOR_TEST_SEED");
+    seed = s ? strtoull(s, NULL, 0) : 20240614u;
+    printf("# test_hilbert seed %llu (set VOR_TEST_SEED to change)\n",
+           (unsigned long long)seed);
+    return 0;
+}
+
+/* Runs the order, checks it is a permutation of 0..n-1 and that a second
+ * run (on a copy at another address) gives the same; returns it. */
+static uint32_t *order_of(const double *xy, size_t n) {
+    uint32_t *o = malloc((n ? n : 1) * sizeof *o);
+    uint32_t *o2 = malloc((n ? n : 1) * sizeof *o2);
+    double *copy = malloc((n ? 2 * n : 1) * sizeof *copy);
+    uint8_t *seen = calloc(n ? n : 1, 1);
+    assert_true(o && o2 && copy && seen);
+    if (n)
+        memcpy(copy, xy, 2 * n * sizeof *copy);
+    assert_int_equal(vor__insertion_order(xy, n, o), VOR_OK);
+    assert_int_equal(vor__insertion_order(copy, n, o2), VOR_OK);
+    for (size_t i = 0; i < n; i++) {
+        assert_true(o[i] < n);
+        assert_false(seen[o[i]]);
+        seen[o[i]] = 1;
+    }
+    assert_memory_equal(o, o2, n * sizeof *o);
+    free(o2);
+    free(copy);
+    free(seen);
+    return o;
+}
+
+/* Distance between sites i and j, in long double: a difference of two
+ * doubles may overflow a double. */
+static long double dist(const double *xy, uint32_t i, uint32_t j) {
+    return hypotl((long double)xy[2 * i] - xy[2 * j],
+                  (long double)xy[2 * i + 1] - xy[2 * j + 1]);
+}
+
+/* Mean distance between consecutive sites of the order, divided by the
+ * same mean over a random order (Fisher-Yates with the test seed). */
+static double locality_ratio(const double *xy, size_t n, const uint32_t *o) {
+    long double along = 0, random = 0;
+    uint32_t *p = malloc(n * sizeof *p);
+    assert_non_null(p);
+    vt_rng r = {seed};
+    for (size_t i = 0; i < n; i++)
+        p[i] = (uint32_t)i;
+    for (size_t i = n - 1; i > 0; i--) {
+        size_t j = vt_next(&r) % (i + 1);
+        uint32_t t = p[i];
+        p[i] = p[j];
+        p[j] = t;
+    }
+    for (size_t i = 1; i < n; i++) {
+        along += dist(xy, o[i], o[i - 1]);
+        random += dist(xy, p[i], p[i - 1]);
+    }
+    free(p);
+    return (double)(along / random);
+}
+
+static void test_permutation_sizes(void **state) {
+    (void)state;
+    const size_t sizes[] = {0, 1, 2, 3, 5, 63, 64, 65, 1000, 4097, 100000};
+    for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+        size_t n = sizes[k];
+        double *xy = vt_uniform(n ? n : 1, seed + k);
+        assert_non_null(xy);
+        free(order_of(xy, n));
+        free(xy);
+    }
+}
+
+static void test_locality_uniform(void **state) {
+    (void)state;
+    size_t n = 10000;
+    double *xy = vt_uniform(n, seed);
+    assert_non_null(xy);
+    uint32_t *o = order_of(xy, n);
+    double ratio = locality_ratio(xy, n, o);
+    printf("# 10^4 uniform: consecutive distance %.4f of a random order's\n",
+           ratio);
+    assert_true(ratio < 0.1);
+
+    /* BRIO, not a plain curve order: the first 100 sites are a random
+     * sample spread over the square, not one corner of the curve */
+    double x0 = 1, x1 = 0, y0 = 1, y1 = 0;
+    for (size_t i = 0; i < 100; i++) {
+        double x = xy[2 * o[i]], y = xy[2 * o[i] + 1];
+        x0 = fmin(x0, x);
+        x1 = fmax(x1, x);
+        y0 = fmin(y0, y);
+        y1 = fmax(y1, y);
+    }
+    printf("# first 100 sites span %.2f x %.2f\n", x1 - x0, y1 - y0);
+    assert_true(x1 - x0 > 0.5 && y1 - y0 > 0.5);
+    free(o);
+    free(xy);
+}
+
+/* Scaling by a power of two changes no key: the order must be identical. */
+static void test_power_of_two_scales(void **state) {
+    (void)state;
+    size_t n = 5000;
+    double *xy = vt_uniform(n, seed + 1);
+    double *s = malloc(2 * n * sizeof *s);
+    assert_true(xy && s);
+    uint32_t *o = order_of(xy, n);
+    const int exps[] = {1000, -900, 500, -500, 1};
+    for (size_t k = 0; k < sizeof exps / sizeof exps[0]; k++) {
+        for (size_t i = 0; i < 2 * n; i++)
+            s[i] = ldexp(2 * xy[i] - 1, exps[k]); /* centred: negatives */
+        uint32_t *os = order_of(s, n);
+        double *c = malloc(2 * n * sizeof *c);
+        assert_non_null(c);
+        for (size_t i = 0; i < 2 * n; i++)
+            c[i] = 2 * xy[i] - 1;
+        uint32_t *oc = order_of(c, n);
+        assert_memory_equal(os, oc, n * sizeof *os);
+        free(os);
+        free(oc);
+        free(c);
+    }
+    free(o);
+    free(s);
+    free(xy);
+}
+
+/* Extreme ranges: spans that overflow, tiny and subnormal spans, mixed
+ * magnitudes, all x equal, all points equal. */
+static void test_extreme_ranges(void **state) {
+    (void)state;
+    size_t n = 4000;
+    double *u = vt_uniform(n, seed + 2);
+    double *xy = malloc(2 * n * sizeof *xy);
+    assert_true(u && xy);
+    struct {
+        const char *name;
+        double scale, offset;
+    } cases[] = {
+        {"span 2 DBL_MAX", DBL_MAX, 0}, {"1e300", 1e300, 0},
+        {"1e-300", 1e-300, 0},          {"subnormal", 1e-310, 0},
+        {"1 at 1e9", 1, 1e9},           {"1e15", 1e15, -1e15},
+        {"1e-9 at 1e-3", 1e-9, 1e-3},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        for (size_t i = 0; i < 2 * n; i++)
+            xy[i] = (2 * u[i] - 1) * cases[k].scale + cases[k].offset;
+        uint32_t *o = order_of(xy, n);
+        double ratio = locality_ratio(xy, n, o);
+        printf("# %-14s locality %.4f\n", cases[k].name, ratio);
+        assert_true(ratio < 0.15);
+        free(o);
+    }
+    /* mixed: most points tiny, a few huge */
+    for (size_t i = 0; i < 2 * n; i++)
+        xy[i] = i % 97 == 0 ? (2 * u[i] - 1) * 1e300 : u[i] * 1e-300;
+    free(order_of(xy, n));
+    /* all x equal: ordered along y */
+    for (size_t i = 0; i < n; i++) {
+        xy[2 * i] = 42;
+        xy[2 * i + 1] = u[i];
+    }
+    uint32_t *o = order_of(xy, n);
+    double ratio = locality_ratio(xy, n, o);
+    printf("# all x equal    locality %.4f\n", ratio);
+    assert_true(ratio < 0.1);
+    free(o);
+    /* all points equal */
+    for (size_t i = 0; i < 2 * n; i++)
+        xy[i] = -3.25;
+    free(order_of(xy, n));
+    free(xy);
+    free(u);
+}
+
+/* Position of cell (x, y) along the Hilbert curve over a 2^bits grid,
+ * the textbook way: quadrant by quadrant, rotating the remaining
+ * coordinates into the sub-square's frame. Quadrants in the order (0,0),
+ * (0,1), (1,1), (1,0). */
+static uint32_t textbook_hilbert(uint32_t x, uint32_t y, int bits) {
+    uint32_t d = 0;
+    for (uint32_t s = (uint32_t)1 << (bits - 1); s > 0; s >>= 1) {
+        uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+        d += s * s * ((3 * rx) ^ ry);
+        if (ry == 0) {
+            if (rx == 1) {
+                x = s - 1 - (x & (s - 1));
+                y = s - 1 - (y & (s - 1));
+            }
+            uint32_t t = x;
+            x = y;
+            y = t;
+        }
+        x &= s - 1;
+        y &= s - 1;
+    }
+    return d;
+}
+
+/* On the 256 x 256 integer grid every site has its own cell of the
+ * 2^8 grid, so inside a round the sites must come in strictly increasing
+ * textbook curve position; a decrease marks the start of a round. The
+ * rounds: about log2(n / 64) + 1 of them, the last holding about half the
+ * sites. */
+static void test_curve_and_rounds(void **state) {
+    (void)state;
+    size_t w = 256, n = w * w;
+    double *xy = vt_grid(w, w);
+    assert_non_null(xy);
+    uint32_t *o = order_of(xy, n);
+    size_t runs = 1, last_start = 0;
+    for (size_t i = 1; i < n; i++) {
+        uint32_t a = textbook_hilbert((uint32_t)xy[2 * o[i - 1]],
+                                      (uint32_t)xy[2 * o[i - 1] + 1], 8);
+        uint32_t b = textbook_hilbert((uint32_t)xy[2 * o[i]],
+                                      (uint32_t)xy[2 * o[i] + 1], 8);
+        assert_true(a != b);
+        if (b < a) {
+            runs++;
+            last_start = i;
+        }
+    }
+    double last = (double)(n - last_start) / (double)n;
+    printf("# 256 x 256 grid: %zu increasing runs, the last %.3f of the "
+           "sites\n", runs, last);
+    assert_true(runs >= 8 && runs <= 11); /* 11 rounds for 2^16 sites */
+    assert_true(last > 0.45 && last < 0.55);
+    free(o);
+    free(xy);
+}
+
+/* Every standard set gives a permutation, deterministically. */
+static void test_standard_sets(void **state) {
+    (void)state;
+    for (size_t i = 0; i < vt_count(); i++) {
+        vt_set set;
+        assert_int_equal(vt_make(i, &set), 0);
+        free(order_of(set.xy, set.n));
+        vt_set_free(&set);
+    }
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_permutation_sizes),
+        cmocka_unit_test(test_locality_uniform),
+        cmocka_unit_test(test_power_of_two_scales),
+        cmocka_unit_test(test_extreme_ranges),
+        cmocka_unit_test(test_curve_and_rounds),
+        cmocka_unit_test(test_standard_sets),
+    };
+    return cmocka_run_group_tests_name("core/hilbert", tests, setup_seed,
+                                       NULL);
+}
