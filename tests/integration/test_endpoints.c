@@ -210,9 +210,14 @@ static void test_generate_and_parts(void **state) {
     assert_non_null(clipped);
     assert_true(json_is_true(json_object_get(clipped, "bounds_given")));
     assert_int_equal(json_array_size(json_object_get(clipped, "cells")), 5);
-    /* The centre's cell clipped to the unit square is the diamond. */
+    /* The centre's cell clipped to the unit square is the diamond: four
+     * corners (a closing repeat of the first one allowed). */
     json_t *centre = json_array_get(json_object_get(clipped, "cells"), 4);
-    assert_int_equal(json_array_size(centre), 4);
+    size_t corners = json_array_size(centre);
+    if (corners == 5 && json_equal(json_array_get(centre, 0),
+                                   json_array_get(centre, 4)))
+        corners = 4;
+    assert_int_equal(corners, 4);
     json_decref(j);
     it_free(&r);
 }
