@@ -5,7 +5,7 @@
 // A saved response is a JSON file written by the integration tests:
 // {"method": "POST", "path": "/voronoi", "status": 200,
 //  "content_type": "application/json", "headers": {...}, "body": "<text>"}
-// (body is the decoded text; binary bodies are base64 in "body_base64").
+// (body is the decoded text; a body that is not UTF-8 is "body_hex").
 // Each is matched to its operation (method, path template), its response
 // (status, or the shared component response for 404/405 on any path) and
 // its media type; JSON bodies are validated with ajv (draft 2020-12).
@@ -196,7 +196,7 @@ for (const f of files) {
       fail(what, ajv.errorsText(v.errors, { separator: "; " }).slice(0, 600));
       continue;
     }
-  } else if (typeof r.body !== "string" && typeof r.body_base64 !== "string") {
+  } else if (typeof r.body !== "string" && typeof r.body_hex !== "string") {
     fail(what, "no body saved");
     continue;
   }
