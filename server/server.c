@@ -419,7 +419,7 @@ static enum MHD_Result send_response(req *q, struct MHD_Connection *conn,
     enum MHD_Result rc = MHD_queue_response(conn, status, resp);
     MHD_destroy_response(resp);
     q->status = (int)status;
-    q->bytes = body_len;
+    q->bytes = q->method == SRV_M_HEAD ? 0 : body_len; /* as sent */
     q->phase = PH_DONE;
     return rc;
 }

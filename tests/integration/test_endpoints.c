@@ -530,6 +530,35 @@ static void test_health_ready_metrics_log(void **state) {
     free(log);
 }
 
+/* Answers are sent on the last handler call, so one connection carries
+ * many requests: successes, computations and errors alike. */
+static void test_keep_alive(void **state) {
+    (void)state;
+    int fd = it_connect(d.port);
+    assert_true(fd >= 0);
+    char body[64], req[512], buf[65536];
+    snprintf(body, sizeof body, "%s", square_json);
+    const char *steps[] = {"GET /healthz", "POST /voronoi", "GET /nope",
+                           "GET /voronoi", "POST /compare", "GET /readyz"};
+    const int want[] = {200, 200, 404, 405, 200, 200};
+    for (int i = 0; i < 6; i++) {
+        int post = strncmp(steps[i], "POST", 4) == 0;
+        snprintf(req, sizeof req,
+                 "%s HTTP/1.1\r\nHost: x\r\n%s%s\r\n%s", steps[i],
+                 post ? "Content-Type: application/json\r\nContent-Length: " : "",
+                 post ? "47\r\n" : "", post ? body : "");
+        assert_int_equal(strlen(body), 47);
+        assert_int_equal(it_send_all(fd, req, strlen(req)), 0);
+        int closed;
+        it_recv_response(fd, buf, sizeof buf, 60, &closed);
+        if (it_raw_status(buf) != want[i])
+            fail_msg("%s: %d: %.200s", steps[i], it_raw_status(buf), buf);
+        assert_false(closed);
+        assert_null(strstr(buf, "Connection: close"));
+    }
+    close(fd);
+}
+
 /* --web-dir serves the page from disk; openapi.yaml stays built in. */
 static void test_web_dir(void **state) {
     (void)state;
@@ -572,6 +601,7 @@ int main(void) {
         cmocka_unit_test(test_gzip_timing_cors_ids),
         cmocka_unit_test(test_page_and_files),
         cmocka_unit_test(test_health_ready_metrics_log),
+        cmocka_unit_test(test_keep_alive),
         cmocka_unit_test(test_web_dir),
     };
     return cmocka_run_group_tests_name("integration/endpoints", tests, setup,
