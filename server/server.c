@@ -1106,7 +1106,9 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     } else if (inet_pton(AF_INET6, cfg->bind, &a6->sin6_addr) == 1) {
         a6->sin6_family = AF_INET6;
         a6->sin6_port = htons((uint16_t)cfg->port);
-        flags |= MHD_USE_IPv6;
+        /* "::" means every address, IPv4 ones included. */
+        flags |= IN6_IS_ADDR_UNSPECIFIED(&a6->sin6_addr) ? MHD_USE_DUAL_STACK
+                                                         : MHD_USE_IPv6;
     } else {
         snprintf(err, err_size, "cannot use bind address '%s'", cfg->bind);
         goto fail;
