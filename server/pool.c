@@ -360,6 +360,12 @@ void srv_pool_stats(srv_pool *p, size_t *queued, size_t *running) {
     pthread_mutex_unlock(&p->mu);
 }
 
+void srv_pool_close(srv_pool *p) {
+    pthread_mutex_lock(&p->mu);
+    p->closed = 1;
+    pthread_mutex_unlock(&p->mu);
+}
+
 void srv_pool_cancel_all(srv_pool *p) {
     settle_list l = {p->cancel_jobs, p->cancel_rel, 0};
     pthread_mutex_lock(&p->mu);

@@ -75,6 +75,10 @@ int64_t srv_now_ns(void);
 /* Gauges: jobs waiting, jobs running. */
 void srv_pool_stats(srv_pool *p, size_t *queued, size_t *running);
 
+/* Refuses submissions from now on (SRV_POOL_CLOSED); queued and running
+ * jobs go on. */
+void srv_pool_close(srv_pool *p);
+
 /* Calls done(CANCELLED) for every queued and running job that has not had
  * its done() yet; queued ones are dropped. The pool keeps working. One
  * thread at a time (it uses a settle list preallocated in the pool). */

@@ -1169,8 +1169,11 @@ void srv_server_cancel(srv_server *s) { srv_pool_cancel_all(s->pool); }
 
 int srv_server_free(srv_server *s) {
     if (s == NULL) return 0;
-    /* No request is suspended any more: every job was answered (done()
-     * resumes before the pool lets go of it), so the daemon can stop. */
+    /* libmicrohttpd must not be stopped with a connection suspended. A
+     * request that reaches start_compute from now on is refused by the
+     * closed pool and resumes itself at once; every job accepted before is
+     * answered (and its connection resumed) by cancel_all. */
+    srv_pool_close(s->pool);
     srv_pool_cancel_all(s->pool);
     MHD_stop_daemon(s->daemon);
     if (s->quiesced_fd != MHD_INVALID_SOCKET) close(s->quiesced_fd);

@@ -284,6 +284,28 @@ static void test_shutdown_does_not_wait_forever(void **state) {
     assert_int_equal(srv_pool_free(p, 5), 0);
 }
 
+static void test_close_refuses_but_finishes(void **state) {
+    (void)state;
+    srv_pool *p = srv_pool_new(1, 2);
+    assert_non_null(p);
+    int gate = 0;
+    tjob a, b, c;
+    init_job(&a, &gate, 0);
+    init_job(&b, &gate, 0);
+    init_job(&c, NULL, 0);
+    assert_int_equal(srv_pool_submit(p, &a.base), SRV_POOL_OK);
+    assert_int_equal(srv_pool_submit(p, &b.base), SRV_POOL_OK);
+    srv_pool_close(p);
+    assert_int_equal(srv_pool_submit(p, &c.base), SRV_POOL_CLOSED);
+    open_gate(&gate);
+    wait_for(&a, &a.released, 1);
+    wait_for(&b, &b.released, 1);
+    assert_int_equal(a.outcome, SRV_JOB_RAN);
+    assert_int_equal(b.outcome, SRV_JOB_RAN);
+    assert_int_equal(c.done_calls, 0);
+    assert_int_equal(srv_pool_free(p, 5), 0);
+}
+
 static void test_clamps_sizes(void **state) {
     (void)state;
     srv_pool *p = srv_pool_new(0, 0); /* clamped to 1 and 1 */
@@ -305,6 +327,7 @@ int main(void) {
         cmocka_unit_test(test_cancel_all),
         cmocka_unit_test(test_shutdown_waits_then_refuses),
         cmocka_unit_test(test_shutdown_does_not_wait_forever),
+        cmocka_unit_test(test_close_refuses_but_finishes),
         cmocka_unit_test(test_clamps_sizes),
     };
     return cmocka_run_group_tests_name("server/pool", tests, NULL, NULL);
