@@ -20,7 +20,8 @@
  * Exact for all finite double inputs: a floating-point filter answers when
  * its error bound proves the sign; otherwise exact expansion arithmetic (and
  * GMP where the exponent range of the operands would make expansions
- * underflow). Points are pointers to x,y pairs. */
+ * underflow). Points are pointers to x,y pairs. Hot loops include
+ * core/predicates.h for the inlined vor__orient2d_fast / vor__incircle_fast. */
 
 /* +1 if c lies to the left of a->b (a, b, c counter-clockwise), -1 if to the
  * right, 0 if collinear. */

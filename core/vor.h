@@ -87,7 +87,8 @@ typedef struct vor_sites {
  * the offending input index in *bad_index (if not NULL); n > VOR_MAX_POINTS
  * gives VOR_ETOOMANY. On success *out is a new vor_sites (free with
  * vor_sites_free); on error *out is NULL and nothing leaks. xy may be NULL
- * when n == 0. Expected O(n). */
+ * when n == 0; out == NULL, or xy == NULL with n > 0, gives VOR_EINVAL.
+ * Expected O(n). */
 vor_status vor_sites_new(const double *xy, size_t n, vor_sites **out,
                          size_t *bad_index);
 void vor_sites_free(vor_sites *s);
@@ -211,7 +212,9 @@ void vor_circumcenter(const double *a, const double *b, const double *c,
 /* Unit direction of the bisector of a and b that has a on its left:
  * normalise(-(b.y - a.y), b.x - a.x). For a ray leaving the hull edge
  * (p -> q counter-clockwise along the hull) outwards, call with (q, p):
- * outward points to the right of p->q. Overflow-safe. */
+ * outward points to the right of p->q. Overflow-safe. a == b gives (0, 0);
+ * zero components are +0.0, so swapping a and b negates the result as
+ * numbers (bit for bit in its nonzero components). */
 void vor_bisector_dir(const double *a, const double *b, double *out);
 
 #endif /* VOR_VOR_H */
