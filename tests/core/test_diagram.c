@@ -392,6 +392,40 @@ static void test_mesh_to_diagram(void **state) {
     }
 }
 
+/* Site 0 at the centre of 60 sites on a circle: it is the smallest site of
+ * all 60 vertices and of 60 edges, so the sorts take their path for large
+ * buckets. Both builders must still agree and be canonical. */
+static void test_large_buckets(void **state) {
+    (void)state;
+    double *ring = vt_unit_circle(60);
+    double xy[2 * 61];
+    xy[0] = 0.0;
+    xy[1] = 0.0;
+    memcpy(xy + 2, ring, sizeof(double) * 120);
+    free(ring);
+    vor_sites *s = sites_of(xy, 61);
+    bf_voronoi b;
+    assert_int_equal(bf_voronoi_make(s, &b), 0);
+    assert_int_equal(b.nv, 60);
+    vor_diagram *d0 = build_bf(s, &b, 0);
+    assert_canonical(d0, s);
+    char msg[256];
+    if (vor_check(d0, s, msg, sizeof msg) != 0) fail_msg("%s", msg);
+    for (uint64_t k = 1; k <= 3; k++) {
+        vor_diagram *d1 = build_bf(s, &b, k);
+        assert_true(vor_diagram_equal(d0, d1));
+        vor_diagram_free(d1);
+        vor__mesh m;
+        assert_int_equal(bf_mesh(&b, k, &m), 0);
+        assert_int_equal(vor__mesh_to_diagram(s, &m, &d1), VOR_OK);
+        assert_true(vor_diagram_equal(d0, d1));
+        vor_diagram_free(d1);
+    }
+    vor_diagram_free(d0);
+    bf_free(&b);
+    sites_done(s);
+}
+
 /* ---- degenerate ---------------------------------------------------------- */
 
 static void test_degenerate(void **state) {
@@ -622,6 +656,7 @@ int main(void) {
         cmocka_unit_test(test_bounded_cell),
         cmocka_unit_test(test_brute_force_shuffled),
         cmocka_unit_test(test_mesh_to_diagram),
+        cmocka_unit_test(test_large_buckets),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_rejects_broken_input),
         cmocka_unit_test(test_equal),
