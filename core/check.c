@@ -47,6 +47,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "predicates.h"
 
 #define NONE32 UINT32_MAX
 
@@ -141,7 +142,7 @@ static int check_vertices(ctx *c) {
                 return fail(c, "vertex %zu: not after vertex %zu in (s0, s1, s2) order",
                             v, v - 1);
         }
-        if (vor_orient2d(P(c, t[0]), P(c, t[1]), P(c, t[2])) == 0)
+        if (vor__orient2d_fast(P(c, t[0]), P(c, t[1]), P(c, t[2])) == 0)
             return fail(c, "vertex %zu: sites %u %u %u are collinear", v,
                         (unsigned)t[0], (unsigned)t[1], (unsigned)t[2]);
         double cc[2];
@@ -281,7 +282,7 @@ static int check_cells(ctx *c, uint8_t *seen) {
                                 (unsigned)i, (unsigned)e, (int)prev, (int)v);
             }
             prev = v;
-            int o = vor_orient2d(P(c, i), P(c, other_site(d, e, i)),
+            int o = vor__orient2d_fast(P(c, i), P(c, other_site(d, e, i)),
                                  P(c, other_site(d, f, i)));
             if (o <= 0)
                 return fail(c, "cell %u: neighbours %u, %u do not turn left "
@@ -326,7 +327,7 @@ static int check_lines(ctx *c) {
     const vor_diagram *d = c->d;
     if (c->n >= 3)
         for (size_t k = 2; k < c->n; k++)
-            if (vor_orient2d(P(c, 0), P(c, 1), P(c, (uint32_t)k)) != 0)
+            if (vor__orient2d_fast(P(c, 0), P(c, 1), P(c, (uint32_t)k)) != 0)
                 return fail(c, "no vertices, but sites 0, 1, %zu are not collinear", k);
     size_t want = c->n > 1 ? c->n - 1 : 0;
     if (c->ne != want)
@@ -460,7 +461,7 @@ static int check_vertex_sites(ctx *c, dual *D) {
         const double *p0 = P(c, c0), *p1 = P(c, c1), *p2 = P(c, D->tri[3 * t + 2]);
         for (size_t q = 3; q < m; q++) {
             uint32_t s = D->tri[3 * (t + q - 2) + 2];
-            if (vor_incircle(p0, p1, p2, P(c, s)) != 0)
+            if (vor__incircle_fast(p0, p1, p2, P(c, s)) != 0)
                 return fail(c, "vertex %u: site %u is not exactly on the circle "
                             "of %u %u %u", (unsigned)v, (unsigned)s, (unsigned)c0,
                             (unsigned)c1, (unsigned)D->tri[3 * t + 2]);
@@ -471,7 +472,7 @@ static int check_vertex_sites(ctx *c, dual *D) {
                 size_t r = (q + (size_t)h) % m;
                 s[h] = r == 0 ? c0 : r == 1 ? c1 : D->tri[3 * (t + r - 2) + 2];
             }
-            if (vor_orient2d(P(c, s[0]), P(c, s[1]), P(c, s[2])) <= 0)
+            if (vor__orient2d_fast(P(c, s[0]), P(c, s[1]), P(c, s[2])) <= 0)
                 return fail(c, "vertex %u: sites %u %u %u do not turn left "
                             "(polygon not convex counter-clockwise)", (unsigned)v,
                             (unsigned)s[0], (unsigned)s[1], (unsigned)s[2]);
@@ -514,7 +515,7 @@ static int check_dual(ctx *c, dual *D) {
     const vor_diagram *d = c->d;
     const size_t n = c->n, m = 3 * D->nt;
     for (size_t t = 0; t < D->nt; t++)
-        if (vor_orient2d(P(c, D->tri[3 * t]), P(c, D->tri[3 * t + 1]),
+        if (vor__orient2d_fast(P(c, D->tri[3 * t]), P(c, D->tri[3 * t + 1]),
                          P(c, D->tri[3 * t + 2])) <= 0)
             return fail(c, "dual triangle %zu (%u %u %u) is not counter-clockwise",
                         t, (unsigned)D->tri[3 * t], (unsigned)D->tri[3 * t + 1],
@@ -547,7 +548,7 @@ static int check_dual(ctx *c, dual *D) {
                 return fail(c, "dual edge (%u,%u): both triangles on the same side "
                             "(overlapping triangles)", (unsigned)lo, (unsigned)hi);
             uint32_t t1 = h1 / 3, t2 = h2 / 3;
-            int ic = vor_incircle(P(c, D->tri[3 * t1]), P(c, D->tri[3 * t1 + 1]),
+            int ic = vor__incircle_fast(P(c, D->tri[3 * t1]), P(c, D->tri[3 * t1 + 1]),
                                   P(c, D->tri[3 * t1 + 2]), P(c, he_apex(D, h2)));
             uint32_t v1 = D->tvert[t1], v2 = D->tvert[t2];
             if (ic > 0)
@@ -631,7 +632,7 @@ static int check_dual(ctx *c, dual *D) {
             return fail(c, "hull: boundary does not close from site %u", (unsigned)start);
         uint32_t cc = D->hull_next[b];
         if (cc == NONE32) return fail(c, "hull: boundary breaks at site %u", (unsigned)b);
-        int o = vor_orient2d(P(c, a), P(c, b), P(c, cc));
+        int o = vor__orient2d_fast(P(c, a), P(c, b), P(c, cc));
         if (o < 0)
             return fail(c, "hull: turns right at site %u (not convex)", (unsigned)b);
         if (o == 0 && !(lex_less(P(c, a), P(c, b)) == lex_less(P(c, b), P(c, cc))))

@@ -42,6 +42,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "predicates.h"
 
 /* Indices handled here (vertex and edge ids, which are int32_t in the
  * diagram) stay below 2^31. */
@@ -516,17 +517,17 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
         if (u < 0) continue; /* line */
         if (oriented) { /* end0 on the left: the walk around a ends there */
             fwd[e] = !left;
-            assert(vor_orient2d(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
+            assert(vor__orient2d_fast(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
                                 xy + 2 * (size_t)third_site(vs + 3 * (size_t)u, a, b)) ==
                    (left ? 1 : -1));
             continue;
         }
         uint32_t k = third_site(vs + 3 * (size_t)u, a, b);
-        int o = vor_orient2d(xy + 2 * (size_t)a, xy + 2 * (size_t)b, xy + 2 * (size_t)k);
+        int o = vor__orient2d_fast(xy + 2 * (size_t)a, xy + 2 * (size_t)b, xy + 2 * (size_t)k);
         CONTRACT(o != 0);
         if (w >= 0) {
             uint32_t k2 = third_site(vs + 3 * (size_t)w, a, b);
-            int o2 = vor_orient2d(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
+            int o2 = vor__orient2d_fast(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
                                   xy + 2 * (size_t)k2);
             CONTRACT(o2 == -o); /* the segment joins the two sides of ab */
         }
@@ -656,7 +657,7 @@ vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
         if ((size_t)f < e) continue;
         size_t t = e / 3, u = (size_t)f / 3;
         const double *apex = xy + 2 * (size_t)tri[vor__prev((uint32_t)f)];
-        int ic = vor_incircle(xy + 2 * (size_t)tri[3 * t],
+        int ic = vor__incircle_fast(xy + 2 * (size_t)tri[3 * t],
                               xy + 2 * (size_t)tri[3 * t + 1],
                               xy + 2 * (size_t)tri[3 * t + 2], apex);
         CONTRACT(ic <= 0); /* the mesh is Delaunay */
@@ -719,7 +720,7 @@ int vor__all_collinear(const vor_sites *s) {
     if (!s || s->n < 3) return 1;
     const double *xy = s->xy;
     for (size_t k = 2; k < s->n; k++)
-        if (vor_orient2d(xy, xy + 2, xy + 2 * k) != 0) return 0;
+        if (vor__orient2d_fast(xy, xy + 2, xy + 2 * k) != 0) return 0;
     return 1;
 }
 
