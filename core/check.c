@@ -36,8 +36,8 @@
  * Diagrams without vertices (n < 3 or collinear sites) are checked against
  * the order of the sites along their line.
  *
- * Cost: O(n) plus O(log n) per edge for the dual lookups; scratch about 60
- * bytes per site. Never prints; allocation failure is reported as a
+ * Cost: O(n) for sites that are each on a bounded number of edges (O(log n)
+ * per lookup at worst); scratch about 90 bytes per site. Never prints; allocation failure is reported as a
  * failure ("out of memory").
  */
 #include <math.h>
@@ -84,20 +84,23 @@ static uint32_t other_site(const vor_diagram *d, uint32_t e, uint32_t i) {
                                              : d->edge_sites[2 * (size_t)e];
 }
 
-/* Index of edge (a, b), a < b, by binary search in the (a, b) order; -1 if
- * absent. */
-static long find_edge(const vor_diagram *d, uint32_t a, uint32_t b) {
-    size_t lo = 0, hi = d->n_edges;
+/* Index of edge (a, b), a < b; -1 if absent. by_a[a] .. by_a[a + 1] is the
+ * range of edges whose first site is a (edges are in (a, b) order, checked
+ * before this is used): searched linearly when short, else by bisection. */
+static long find_edge(const vor_diagram *d, const uint32_t *by_a, uint32_t a,
+                      uint32_t b) {
+    size_t lo = by_a[a], hi = by_a[a + 1];
+    if (hi - lo <= 8) {
+        for (size_t e = lo; e < hi; e++)
+            if (d->edge_sites[2 * e + 1] == b) return (long)e;
+        return -1;
+    }
     while (lo < hi) {
         size_t mid = lo + (hi - lo) / 2;
-        const uint32_t *e = d->edge_sites + 2 * mid;
-        if (e[0] < a || (e[0] == a && e[1] < b)) lo = mid + 1;
+        if (d->edge_sites[2 * mid + 1] < b) lo = mid + 1;
         else hi = mid;
     }
-    if (lo < d->n_edges && d->edge_sites[2 * lo] == a &&
-        d->edge_sites[2 * lo + 1] == b)
-        return (long)lo;
-    return -1;
+    return lo < by_a[a + 1] && d->edge_sites[2 * lo + 1] == b ? (long)lo : -1;
 }
 
 /* (x, y) lexicographic order: along a line, the order of the points. */
@@ -374,6 +377,7 @@ typedef struct dual {
     uint32_t *he_tmp;
     uint32_t *count;   /* n + 1 */
     uint32_t *hull_next; /* n: boundary successor of a hull site */
+    uint32_t *by_a;    /* n + 1: first edge whose first site is a */
 } dual;
 
 static void dual_free(dual *D) {
@@ -387,6 +391,7 @@ static void dual_free(dual *D) {
     free(D->he_tmp);
     free(D->count);
     free(D->hull_next);
+    free(D->by_a);
 }
 
 static uint32_t he_from(const dual *D, uint32_t h) { return D->tri[h]; }
@@ -538,7 +543,7 @@ static int check_dual(ctx *c, dual *D) {
         uint32_t lo = he_min(D, D->he[k]), hi = he_max(D, D->he[k]);
         while (q < m && he_min(D, D->he[q]) == lo && he_max(D, D->he[q]) == hi) q++;
         n_dual_edges++;
-        long e = find_edge(d, lo, hi);
+        long e = find_edge(d, D->by_a, lo, hi);
         if (q - k > 2)
             return fail(c, "dual edge (%u,%u) is in %zu triangles", (unsigned)lo,
                         (unsigned)hi, q - k);
@@ -693,12 +698,15 @@ int vor_check(const vor_diagram *d, const vor_sites *sites, char *msg,
     D.he_tmp = alloc(3 * D.nt, sizeof *D.he_tmp);
     D.count = alloc(c.n + 1, sizeof *D.count);
     D.hull_next = alloc(c.n, sizeof *D.hull_next);
+    D.by_a = calloc(c.n + 1, sizeof *D.by_a);
     if (!D.tvert || !D.voff || !D.vedge || !D.pos || !D.stamp || !D.he ||
-        !D.he_tmp || !D.count || !D.hull_next) {
+        !D.he_tmp || !D.count || !D.hull_next || !D.by_a) {
         dual_free(&D);
         return fail(&c, "out of memory");
     }
-    /* edges at each vertex (CSR, via the count array as cursors) */
+    for (size_t e = 0; e < c.ne; e++) D.by_a[d->edge_sites[2 * e] + 1]++;
+    for (size_t i = 0; i < c.n; i++) D.by_a[i + 1] += D.by_a[i];
+    /* edges at each vertex (CSR) */
     for (size_t k = 0; k < 2 * c.ne; k++)
         if (d->edge_ends[k] >= 0) D.voff[d->edge_ends[k] + 1]++;
     for (size_t v = 0; v < c.nv; v++) D.voff[v + 1] += D.voff[v];
