@@ -30,7 +30,9 @@
  *
  * Each table case runs in its own process so that one case's heap does not
  * skew the next one's time or memory, and so that a crash or an overlong
- * run (SIGALRM after --limit-s) costs one row, not the run.
+ * run (SIGALRM after --limit-s) costs one row, not the run. A case whose
+ * time, predicted from the algorithm's previous size, would exceed
+ * --limit-s, or the table's --total-s, is skipped and says so.
  */
 #include <errno.h>
 #include <signal.h>
@@ -54,10 +56,12 @@ static void usage(void) {
     fputs(
         "usage: bench_algo table [--algos a,b] [--dists d,e] [--ns 10,100]\n"
         "                        [--mem-ns 100000] [--check-max N] [--seed S]\n"
-        "                        [--budget-ms 300] [--limit-s 240] --csv FILE\n"
+        "                        [--budget-ms 300] [--limit-s 240]\n"
+        "                        [--total-s 0] --csv FILE\n"
         "       bench_algo points --dist D --n N [--seed S] --out FILE\n"
         "       bench_algo json   --dist D --n N [--seed S] [--algo A] --out FILE\n"
-        "       bench_algo ours   --algo A --points FILE [--runs R] [--tris FILE]\n"
+        "       bench_algo ours   --algo A --points FILE [--runs R]\n"
+        "                         [--budget-ms B] [--tris FILE]\n"
         "       bench_algo check  --points FILE --tris FILE\n"
         "distributions: uniform gaussian random unit-circle\n",
         stderr);
@@ -71,7 +75,7 @@ typedef struct opts {
     size_t n, check_max;
     uint64_t seed;
     double budget_ms;
-    int runs, limit_s;
+    int runs, limit_s, total_s;
 } opts;
 
 static int parse_opts(int argc, char **argv, opts *o) {
@@ -82,7 +86,7 @@ static int parse_opts(int argc, char **argv, opts *o) {
     o->mem_ns = "";
     o->algo = "bowyer-watson";
     o->seed = 1;
-    o->budget_ms = 300;
+    o->budget_ms = 300; /* table: per case; ours: for all runs */
     o->runs = 3;
     o->limit_s = 240;
     o->check_max = 100000;
@@ -109,6 +113,7 @@ static int parse_opts(int argc, char **argv, opts *o) {
         else if (!strcmp(k, "--budget-ms")) o->budget_ms = strtod(v, NULL);
         else if (!strcmp(k, "--runs")) o->runs = atoi(v);
         else if (!strcmp(k, "--limit-s")) o->limit_s = atoi(v);
+        else if (!strcmp(k, "--total-s")) o->total_s = atoi(v);
         else {
             fprintf(stderr, "unknown option %s\n", k);
             return -1;
@@ -352,10 +357,14 @@ static int cmd_table(const opts *o) {
            "point (VmHWM growth, child process per case).\n"
            "seed %llu\n",
            (unsigned long long)o->seed);
+    uint64_t t_start = bu_now_ns();
     for (size_t di = 0; di < nd; di++) {
         /* Whether an algorithm has given up on this distribution (a larger
          * n after a timeout or crash would only waste the budget). */
         int gave_up[MAX_LIST] = {0};
+        /* Last successful case per algorithm, to predict the next one. */
+        size_t prev_n[MAX_LIST] = {0};
+        double prev_ms[MAX_LIST] = {0};
         printf("\n== %s\n%9s", dn[di], "n");
         for (size_t ai = 0; ai < na; ai++)
             printf(" | %-27s", an[ai]);
@@ -371,15 +380,33 @@ static int cmd_table(const opts *o) {
             fflush(stdout);
             for (size_t ai = 0; ai < na; ai++) {
                 result r;
-                if (gave_up[ai]) {
+                /* A case needs at least 3 runs; predict one from the last
+                 * size, growing a little faster than linearly. */
+                double predicted_s =
+                    prev_n[ai] ? prev_ms[ai] / 1e3 * ((double)n / prev_n[ai]) *
+                                     1.3
+                               : 0.0;
+                double elapsed = (double)(bu_now_ns() - t_start) / 1e9;
+                const char *skip =
+                    gave_up[ai] ? "skipped (smaller n failed)"
+                    : 3 * predicted_s > o->limit_s
+                        ? "skipped (over --limit-s)"
+                    : o->total_s > 0 && elapsed + 3 * predicted_s > o->total_s
+                        ? "skipped (over --total-s)"
+                        : NULL;
+                if (skip) {
                     memset(&r, 0, sizeof r);
                     r.n = n;
                     r.status = -1;
                     r.check_ok = -1;
                     r.peak_bytes = -1;
-                    snprintf(r.msg, sizeof r.msg, "skipped");
+                    snprintf(r.msg, sizeof r.msg, "%s", skip);
                 } else {
                     run_case(o, dn[di], algo[ai], n, in_list(n, mem, nm), &r);
+                }
+                if (r.status == VOR_OK) {
+                    prev_n[ai] = n;
+                    prev_ms[ai] = r.median_ms;
                 }
                 if (r.status != VOR_OK) {
                     printf(" | %-27.27s", status_text(&r));
@@ -493,7 +520,9 @@ static int cmd_ours(const opts *o) {
     result r;
     vor_diagram *d = NULL;
     memset(&r, 0, sizeof r);
-    time_compute(sites, algo, 1, 0, o->runs, o->runs, &r, &d);
+    /* Up to --runs runs, fewer when they would not fit in --budget-ms
+     * (given explicitly; a slow algorithm then gets one run). */
+    time_compute(sites, algo, 1, o->budget_ms, 1, o->runs, &r, &d);
     if (r.status != VOR_OK) {
         printf("RESULT name=%s n=%zu status=%s\n", o->algo, n,
                vor_status_name(r.status));

@@ -7,8 +7,9 @@
 #
 # Plot 1: median time of vor_compute against n, log-log: a straight line of
 # slope 1 is linear growth; n log n bends slightly upwards.
-# Plot 2: nanoseconds per point against n (log n): flat is linear; the rise
-# at small n is the fixed cost per call; at large n, the memory hierarchy.
+# Plot 2: nanoseconds per point against n (both log): flat is linear; the
+# rise at small n is the fixed cost per call; at large n, the memory
+# hierarchy.
 
 set terminal pngcairo size 1100,720 font ",10" noenhanced
 set datafile separator whitespace
@@ -33,9 +34,8 @@ plot for [s in series] dir."/".s.".dat" using 1:2 with linespoints \
 
 set output out_nspp
 set title "vor_compute, full diagram: time per point (".title.")" noenhanced
-unset logscale y
+# Log scale here too: one slow series must not flatten all the others.
 set format y "%g"
-set yrange [0:*]
-set ylabel "nanoseconds per input point"
+set ylabel "nanoseconds per input point (log scale)"
 plot for [s in series] dir."/".s.".dat" using 1:3 with linespoints \
      dt dashes(s) lc rgb colour(s) pt 7 ps 0.6 title s noenhanced
