@@ -645,8 +645,8 @@ vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
     if (!uf) goto fail;
     for (size_t t = 0; t < T; t++) uf[t] = (uint32_t)t;
     size_t hull = 0;
+    for (size_t e = 0; e < 3 * T; e++) CONTRACT(tri[e] < n);
     for (size_t e = 0; e < 3 * T; e++) {
-        CONTRACT(tri[e] < n);
         int32_t f = adj[e];
         if (f < 0) {
             CONTRACT(f == -1);

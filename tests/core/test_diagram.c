@@ -24,51 +24,14 @@
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
 
-/* Sites through vor_sites_new; while that is not available yet, a naive
- * copy with the same contract (first occurrences, in order). */
-static int sites_manual;
-
 static vor_sites *sites_of(const double *xy, size_t n) {
     vor_sites *s = NULL;
-    vor_status st = vor_sites_new(xy, n, &s, NULL);
-    if (st == VOR_EUNAVAILABLE) {
-        sites_manual = 1;
-        s = calloc(1, sizeof *s);
-        s->xy = malloc((n ? n : 1) * 2 * sizeof(double));
-        s->input_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->site_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->n_input = n;
-        for (size_t i = 0; i < n; i++) {
-            size_t j = 0;
-            while (j < s->n && !(s->xy[2 * j] == xy[2 * i] &&
-                                 s->xy[2 * j + 1] == xy[2 * i + 1]))
-                j++;
-            if (j == s->n) {
-                s->xy[2 * j] = xy[2 * i] + 0.0;
-                s->xy[2 * j + 1] = xy[2 * i + 1] + 0.0;
-                s->input_of[j] = (uint32_t)i;
-                s->n++;
-            }
-            s->site_of[i] = (uint32_t)j;
-        }
-        return s;
-    }
-    assert_int_equal(st, VOR_OK);
+    assert_int_equal(vor_sites_new(xy, n, &s, NULL), VOR_OK);
     assert_non_null(s);
     return s;
 }
 
-static void sites_done(vor_sites *s) {
-    if (!sites_manual) {
-        vor_sites_free(s);
-        return;
-    }
-    if (!s) return;
-    free(s->xy);
-    free(s->input_of);
-    free(s->site_of);
-    free(s);
-}
+static void sites_done(vor_sites *s) { vor_sites_free(s); }
 
 static vor_diagram *build_bf(const vor_sites *s, const bf_voronoi *b,
                              uint64_t seed) {
@@ -592,6 +555,60 @@ static void test_rejects_broken_input(void **state) {
     }
 }
 
+/* The same for the mesh conversion: a mesh that is not Delaunay, or whose
+ * twins do not match, is refused. */
+static void expect_mesh_rejected(const char *what, const double *pts, size_t n,
+                                 const uint32_t *T, const int32_t *A, size_t nt) {
+    fflush(stdout);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        close(2);
+        vor_sites *s = sites_of(pts, n);
+        vor__mesh m = {nt, nt, malloc(3 * nt * sizeof(uint32_t)),
+                       malloc(3 * nt * sizeof(int32_t))};
+        memcpy(m.tri, T, 3 * nt * sizeof *T);
+        memcpy(m.adj, A, 3 * nt * sizeof *A);
+        vor_diagram *d = NULL;
+        vor_status st = vor__mesh_to_diagram(s, &m, &d);
+        int cleared = m.tri == NULL && m.adj == NULL;
+        sites_done(s);
+        _exit(st == VOR_EINVAL && d == NULL && cleared ? 0 : 1);
+    }
+    int ws = 0;
+    assert_int_equal(waitpid(pid, &ws, 0), pid);
+    int ok = (WIFEXITED(ws) && WEXITSTATUS(ws) == 0) ||
+             (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGABRT);
+    if (!ok) fail_msg("broken mesh accepted: %s (status %d)", what, ws);
+}
+
+static void test_rejects_broken_mesh(void **state) {
+    (void)state;
+    /* kite: AC is the Delaunay diagonal (D lies outside the circle of ABC) */
+    static const double kite[] = {0, 0, 1, -1, 2, 0, 1, 1.5};
+    /* triangles ABD, BCD: half-edge 1 (B->D) twins 5 (D->B) */
+    const uint32_t T[] = {0, 1, 3, 1, 2, 3};
+    const int32_t A[] = {-1, 5, -1, -1, -1, 1};
+    expect_mesh_rejected("mesh not Delaunay", kite, 4, T, A, 2);
+    const uint32_t T2[] = {0, 1, 2, 0, 2, 3}; /* the Delaunay one */
+    const int32_t A2[] = {-1, -1, 3, 2, -1, -1};
+    const int32_t A3[] = {-1, -1, 4, 2, -1, -1};
+    expect_mesh_rejected("twins do not match", kite, 4, T2, A3, 2);
+    const uint32_t T4[] = {0, 1, 2, 0, 2, 7};
+    expect_mesh_rejected("site out of range", kite, 4, T4, A2, 2);
+    /* and the good one is accepted */
+    vor_sites *s = sites_of(kite, 4);
+    vor__mesh m = {2, 2, malloc(6 * sizeof(uint32_t)), malloc(6 * sizeof(int32_t))};
+    memcpy(m.tri, T2, sizeof T2);
+    memcpy(m.adj, A2, sizeof A2);
+    vor_diagram *d = NULL;
+    assert_int_equal(vor__mesh_to_diagram(s, &m, &d), VOR_OK);
+    assert_int_equal(d->n_vertices, 2);
+    assert_int_equal(d->n_edges, 5);
+    vor_diagram_free(d);
+    sites_done(s);
+}
+
 /* ---- equality and the dispatcher ----------------------------------------- */
 
 static void test_equal(void **state) {
@@ -659,6 +676,7 @@ int main(void) {
         cmocka_unit_test(test_large_buckets),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_rejects_broken_input),
+        cmocka_unit_test(test_rejects_broken_mesh),
         cmocka_unit_test(test_equal),
         cmocka_unit_test(test_compute_arguments),
     };
