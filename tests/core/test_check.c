@@ -20,51 +20,16 @@
 #include "../../core/internal.h"
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
-
-/* Sites through vor_sites_new; while that is not available yet, a naive
- * copy with the same contract. */
-static int sites_manual;
+#include "fault_alloc.h"
 
 static vor_sites *sites_of(const double *xy, size_t n) {
     vor_sites *s = NULL;
-    vor_status st = vor_sites_new(xy, n, &s, NULL);
-    if (st == VOR_EUNAVAILABLE) {
-        sites_manual = 1;
-        s = calloc(1, sizeof *s);
-        s->xy = malloc((n ? n : 1) * 2 * sizeof(double));
-        s->input_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->site_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->n_input = n;
-        for (size_t i = 0; i < n; i++) {
-            size_t j = 0;
-            while (j < s->n && !(s->xy[2 * j] == xy[2 * i] &&
-                                 s->xy[2 * j + 1] == xy[2 * i + 1]))
-                j++;
-            if (j == s->n) {
-                s->xy[2 * j] = xy[2 * i] + 0.0;
-                s->xy[2 * j + 1] = xy[2 * i + 1] + 0.0;
-                s->input_of[j] = (uint32_t)i;
-                s->n++;
-            }
-            s->site_of[i] = (uint32_t)j;
-        }
-        return s;
-    }
-    assert_int_equal(st, VOR_OK);
+    assert_int_equal(vor_sites_new(xy, n, &s, NULL), VOR_OK);
+    assert_non_null(s);
     return s;
 }
 
-static void sites_done(vor_sites *s) {
-    if (!sites_manual) {
-        vor_sites_free(s);
-        return;
-    }
-    if (!s) return;
-    free(s->xy);
-    free(s->input_of);
-    free(s->site_of);
-    free(s);
-}
+static void sites_done(vor_sites *s) { vor_sites_free(s); }
 
 static void *dup_array(const void *p, size_t bytes) {
     void *q = malloc(bytes ? bytes : 1);
@@ -496,6 +461,27 @@ static void test_non_delaunay(void **state) {
     }
 }
 
+/* Each allocation of vor_check fails in turn: it reports "out of memory"
+ * (a failure, never a false pass) and leaks nothing. */
+static void test_allocation_failures(void **state) {
+    (void)state;
+    vor_sites *s = corruption_sites();
+    vor_diagram *d = build_bf(s, 1);
+    char msg[128];
+    long k;
+    for (k = 0;; k++) {
+        fault_arm(k);
+        int r = vor_check(d, s, msg, sizeof msg);
+        fault_disarm();
+        if (r == 0) break;
+        assert_string_equal(msg, "out of memory");
+    }
+    printf("  %ld allocations failed in turn\n", k);
+    assert_true(k >= 10);
+    vor_diagram_free(d);
+    sites_done(s);
+}
+
 static void test_arguments(void **state) {
     (void)state;
     static const double tri[] = {0, 0, 1, 0, 0, 1};
@@ -520,6 +506,7 @@ int main(void) {
         cmocka_unit_test(test_valid_algorithms),
         cmocka_unit_test(test_corruptions),
         cmocka_unit_test(test_non_delaunay),
+        cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_arguments),
     };
     return cmocka_run_group_tests_name("core/check", tests, NULL, NULL);

@@ -23,51 +23,16 @@
 #include "../../core/internal.h"
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
-
-/* Sites through vor_sites_new; while that is not available yet, a naive
- * copy with the same contract. */
-static int sites_manual;
+#include "fault_alloc.h"
 
 static vor_sites *sites_of(const double *xy, size_t n) {
     vor_sites *s = NULL;
-    vor_status st = vor_sites_new(xy, n, &s, NULL);
-    if (st == VOR_EUNAVAILABLE) {
-        sites_manual = 1;
-        s = calloc(1, sizeof *s);
-        s->xy = malloc((n ? n : 1) * 2 * sizeof(double));
-        s->input_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->site_of = malloc((n ? n : 1) * sizeof(uint32_t));
-        s->n_input = n;
-        for (size_t i = 0; i < n; i++) {
-            size_t j = 0;
-            while (j < s->n && !(s->xy[2 * j] == xy[2 * i] &&
-                                 s->xy[2 * j + 1] == xy[2 * i + 1]))
-                j++;
-            if (j == s->n) {
-                s->xy[2 * j] = xy[2 * i] + 0.0;
-                s->xy[2 * j + 1] = xy[2 * i + 1] + 0.0;
-                s->input_of[j] = (uint32_t)i;
-                s->n++;
-            }
-            s->site_of[i] = (uint32_t)j;
-        }
-        return s;
-    }
-    assert_int_equal(st, VOR_OK);
+    assert_int_equal(vor_sites_new(xy, n, &s, NULL), VOR_OK);
+    assert_non_null(s);
     return s;
 }
 
-static void sites_done(vor_sites *s) {
-    if (!sites_manual) {
-        vor_sites_free(s);
-        return;
-    }
-    if (!s) return;
-    free(s->xy);
-    free(s->input_of);
-    free(s->site_of);
-    free(s);
-}
+static void sites_done(vor_sites *s) { vor_sites_free(s); }
 
 static vor_diagram *diagram_of(const vor_sites *s) {
     vor_diagram *d = NULL;
@@ -401,6 +366,37 @@ static void test_overflowing_vertex(void **state) {
     sites_done(s);
 }
 
+/* Each allocation of vor_clip fails in turn: VOR_ENOMEM, *out NULL,
+ * nothing leaked (LeakSanitizer checks at exit). Diagrams with and without
+ * vertices. */
+static void test_allocation_failures(void **state) {
+    (void)state;
+    static const double pts[] = {0, 10, -9, -5, 9, -5, 0, 0, 3, 1, 1, 1};
+    static const double col[] = {0, 0, 1, 1, 3, 3};
+    const double box[4] = {-2, -2, 2, 2};
+    for (int set = 0; set < 2; set++) {
+        vor_sites *s = set ? sites_of(col, 3) : sites_of(pts, 6);
+        vor_diagram *d = diagram_of(s);
+        long k;
+        for (k = 0;; k++) {
+            vor_clipped *c = (vor_clipped *)1;
+            fault_arm(k);
+            vor_status st = vor_clip(d, s, box, &c);
+            fault_disarm();
+            if (st == VOR_OK) {
+                vor_clipped_free(c);
+                break;
+            }
+            assert_int_equal(st, VOR_ENOMEM);
+            assert_null(c);
+        }
+        printf("  %s: %ld allocations failed in turn\n", set ? "lines" : "vertices", k);
+        assert_true(k >= 5);
+        vor_diagram_free(d);
+        sites_done(s);
+    }
+}
+
 static void test_bad_boxes(void **state) {
     (void)state;
     static const double pts[] = {0, 0, 1, 0, 0, 1};
@@ -436,6 +432,7 @@ int main(void) {
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_degenerate_cells),
         cmocka_unit_test(test_overflowing_vertex),
+        cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_bad_boxes),
     };
     return cmocka_run_group_tests_name("core/clip", tests, NULL, NULL);

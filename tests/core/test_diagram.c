@@ -23,6 +23,7 @@
 #include "../../core/internal.h"
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
+#include "fault_alloc.h"
 
 static vor_sites *sites_of(const double *xy, size_t n) {
     vor_sites *s = NULL;
@@ -609,6 +610,93 @@ static void test_rejects_broken_mesh(void **state) {
     sites_done(s);
 }
 
+/* ---- allocation failures ------------------------------------------------- */
+
+/* Every allocation of the builder, the mesh conversion, the degenerate
+ * builder and the dual triangles is made to fail in turn: each must return
+ * VOR_ENOMEM with nothing allocated (LeakSanitizer checks at exit), until
+ * enough succeed. */
+static void test_allocation_failures(void **state) {
+    (void)state;
+    static const double pts[] = {0, 10, -9, -5, 9, -5, 0, 0, 3, 1, 1, 1, -1, -1, 2, 3};
+    vor_sites *s = sites_of(pts, 8);
+    bf_voronoi b;
+    assert_int_equal(bf_voronoi_make(s, &b), 0);
+    long k, total[4] = {0};
+
+    for (k = 0;; k++) { /* vor__diagram_build */
+        uint32_t *edges;
+        int32_t *ends;
+        assert_int_equal(bf_raw(&b, 5, &edges, &ends), 0);
+        vor_diagram *d = (vor_diagram *)1;
+        fault_arm(k);
+        vor_status st = vor__diagram_build(s, b.nv, edges, ends, b.ne, &d);
+        fault_disarm();
+        if (st == VOR_OK) {
+            vor_diagram_free(d);
+            break;
+        }
+        assert_int_equal(st, VOR_ENOMEM);
+        assert_null(d);
+    }
+    total[0] = k;
+    vor_diagram *good = NULL;
+    for (k = 0;; k++) { /* vor__mesh_to_diagram */
+        vor__mesh m;
+        assert_int_equal(bf_mesh(&b, 3, &m), 0);
+        vor_diagram *d = (vor_diagram *)1;
+        fault_arm(k);
+        vor_status st = vor__mesh_to_diagram(s, &m, &d);
+        fault_disarm();
+        assert_null(m.tri);
+        if (st == VOR_OK) {
+            good = d;
+            break;
+        }
+        assert_int_equal(st, VOR_ENOMEM);
+        assert_null(d);
+    }
+    total[1] = k;
+    for (k = 0;; k++) { /* vor_diagram_triangles */
+        uint32_t *tri = (uint32_t *)1;
+        size_t nt = 9;
+        fault_arm(k);
+        vor_status st = vor_diagram_triangles(good, s, &tri, &nt);
+        fault_disarm();
+        if (st == VOR_OK) {
+            free(tri);
+            break;
+        }
+        assert_int_equal(st, VOR_ENOMEM);
+        assert_null(tri);
+        assert_int_equal(nt, 0);
+    }
+    total[2] = k;
+    vor_diagram_free(good);
+    bf_free(&b);
+    sites_done(s);
+
+    static const double col[] = {2, 1, -4, -2, 0, 0, 6, 3, 4, 2};
+    s = sites_of(col, 5);
+    for (k = 0;; k++) { /* vor__diagram_degenerate */
+        vor_diagram *d = (vor_diagram *)1;
+        fault_arm(k);
+        vor_status st = vor__diagram_degenerate(s, &d);
+        fault_disarm();
+        if (st == VOR_OK) {
+            vor_diagram_free(d);
+            break;
+        }
+        assert_int_equal(st, VOR_ENOMEM);
+        assert_null(d);
+    }
+    total[3] = k;
+    sites_done(s);
+    printf("allocations failed in turn: build %ld, mesh conversion %ld, "
+           "triangles %ld, degenerate %ld\n", total[0], total[1], total[2], total[3]);
+    assert_true(total[0] >= 8 && total[1] >= 10 && total[2] >= 4 && total[3] >= 8);
+}
+
 /* ---- equality and the dispatcher ----------------------------------------- */
 
 static void test_equal(void **state) {
@@ -677,6 +765,7 @@ int main(void) {
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_rejects_broken_input),
         cmocka_unit_test(test_rejects_broken_mesh),
+        cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_equal),
         cmocka_unit_test(test_compute_arguments),
     };
