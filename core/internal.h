@@ -95,7 +95,8 @@ vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
  * there, computes coordinates with vor_circumcenter, ray directions with
  * vor_bisector_dir (outward decided exactly with vor_orient2d), orders
  * everything canonically and builds the counter-clockwise cells.
- * Expected O(n). */
+ * O(n) when each site is the smallest of a bounded number of circles;
+ * O(n log n) at worst. */
 vor_status vor__diagram_build(const vor_sites *s, size_t n_vertices,
                               uint32_t *edges, int32_t *ends, size_t n_edges,
                               vor_diagram **out);

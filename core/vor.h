@@ -126,7 +126,9 @@ void vor_sites_free(vor_sites *s);
  *   indices counter-clockwise around the site. A bounded cell starts at its
  *   smallest edge index; an unbounded cell starts with the edge that comes in
  *   from infinity and ends with the one that leaves to infinity.
- *   cell_bounded[i] is 1 for a closed polygon. */
+ *   cell_bounded[i] is 1 for a closed polygon. Without vertices (all sites
+ *   collinear), a site between two parallel lines lists them in edge order;
+ *   each is walked with the site on its left. */
 typedef struct vor_diagram {
     size_t n_sites; /* copy of sites->n */
 
@@ -159,7 +161,8 @@ void vor_diagram_free(vor_diagram *d);
 int vor_diagram_equal(const vor_diagram *p, const vor_diagram *q);
 
 /* The Delaunay triangles dual to the diagram: each vertex of degree k gives
- * k-2 triangles, fanned from its smallest site, counter-clockwise. *out is a
+ * k-2 triangles, fanned from its smallest site, counter-clockwise, listed
+ * vertex by vertex in vertex order. *out is a
  * new array of 3 * *n_tri site indices (free with free()). Identical for all
  * algorithms, because it is derived from the canonical diagram. */
 vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
@@ -187,9 +190,11 @@ typedef struct vor_clipped {
     double *seg;
     uint8_t *seg_in;
     /* For every site i, its cell intersected with the box, a closed
-     * counter-clockwise polygon of (poly_start[i+1] - poly_start[i]) points
-     * at poly_xy[2*poly_start[i] ..]; empty when the site's cell misses the
-     * box (a site outside the box can still have a cell inside it). */
+     * counter-clockwise ring, closed by repeating its first point at the
+     * end, of (poly_start[i+1] - poly_start[i]) points at
+     * poly_xy[2*poly_start[i] ..]; empty when the site's cell misses the box
+     * or meets it only in a point or a segment (a site outside the box can
+     * still have a cell inside it). */
     uint32_t *poly_start; /* n_sites + 1 */
     double *poly_xy;
 } vor_clipped;
