@@ -68,7 +68,8 @@ TESTS_SRV := $(wildcard tests/server/test_*.c)
 TESTS_INT := $(wildcard tests/integration/test_*.c)
 
 .PHONY: all run test tsan bench deps deps-test deps-bench clean unit \
-        integration browser deploy-test openapi-lint check-deps fuzz
+        integration browser deploy-test openapi-lint check-deps fuzz \
+        fuzz-quick
 .DELETE_ON_ERROR:
 
 all: deps $(B)/voronoi $(B)/voronoid
@@ -188,7 +189,8 @@ browser openapi-lint deploy-test: deps-test all
 
 test: deps deps-test
 	@fail=0; failed=; \
-	for t in unit integration tsan openapi-lint browser deploy-test; do \
+	for t in unit integration tsan fuzz-quick openapi-lint browser \
+	         deploy-test; do \
 	    $(MAKE) --no-print-directory $$t || { fail=1; failed="$$failed $$t"; }; \
 	done; \
 	if [ $$fail = 0 ]; then echo "make test: all passed"; \
@@ -234,7 +236,7 @@ $(BENCH_BIN)/peer_qhull: bench/peer_qhull.c bench/bench_util.h
 # ---- fuzzing (libFuzzer) ------------------------------------------------
 # make fuzz: each tests/fuzz/fuzz_*.c target runs FUZZ_SECONDS under ASan and
 # UBSan with clang's libFuzzer; a failing input is saved in $(B)/fuzz/ and
-# fails the target. make test runs a short round (FUZZ_SECONDS=20).
+# fails the target. make test runs a short deterministic round (fuzz-quick).
 FUZZ_SECONDS ?= 60
 FUZZ_CC := clang
 FUZZ_FLAGS := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
@@ -251,15 +253,25 @@ $(B)/fuzz/%: tests/fuzz/%.c $(CORE_SRC) $(API_SRC) $(B)/fuzz/numconv.o | deps
 	    $(FUZZ_FLAGS) -fsanitize=fuzzer $(API_CFLAGS) $< $(CORE_SRC) \
 	    $(API_SRC) $(B)/fuzz/numconv.o -o $@ $(API_LIBS) $(CORE_LIBS)
 
+# FUZZ_LIMIT and FUZZ_CORPUS let make test run a deterministic round: a
+# fixed seed, a fixed number of inputs and no corpus carried between runs.
+FUZZ_LIMIT ?= -max_total_time=$(FUZZ_SECONDS)
+FUZZ_CORPUS ?= corpus
 fuzz: $(FUZZ_TARGETS)
 	@fail=0; for t in $(FUZZ_TARGETS); do \
-	    echo "== $$t ($(FUZZ_SECONDS) s)"; \
-	    mkdir -p $$t.corpus; \
-	    ASAN_OPTIONS=detect_leaks=1 $$t -max_total_time=$(FUZZ_SECONDS) \
-	        -seed=1 -print_final_stats=1 -artifact_prefix=$$t- $$t.corpus \
-	        2>$$t.log || { fail=1; tail -30 $$t.log; }; \
+	    echo "== $$t ($(FUZZ_LIMIT))"; \
+	    corpus=; if [ -n "$(FUZZ_CORPUS)" ]; then \
+	        corpus=$$t.$(FUZZ_CORPUS); mkdir -p $$corpus; fi; \
+	    ASAN_OPTIONS=detect_leaks=1 $$t $(FUZZ_LIMIT) -seed=1 \
+	        -print_final_stats=1 -artifact_prefix=$$t- $$corpus \
+	        2>$$t.log || { fail=1; grep -A12 -E 'ERROR|fuzz_[a-z]+:' $$t.log \
+	            | head -40; }; \
 	    grep -E '^stat::number_of_executed_units' $$t.log; \
 	done; exit $$fail
+
+# The round make test runs.
+fuzz-quick:
+	@$(MAKE) --no-print-directory fuzz FUZZ_LIMIT=-runs=40000 FUZZ_CORPUS=
 
 # ---- dependencies --------------------------------------------------------
 # dpkg tells what is installed; apt-get installs the rest when we are root.
