@@ -1,11 +1,1052 @@
-/* fortune.c -- Fortune's sweep-line algorithm for the Voronoi diagram.
+/* fortune.c -- Fortune's sweep line: the Voronoi diagram built directly,
+ * without a triangulation.
  *
- * Placeholder: the sweep is being written; until then the entry point
- * reports that the algorithm is not available. */
-#include "internal.h"
+ * The sweep line moves towards +y over the sites, sorted by (y, x). Behind
+ * it, the beach line -- the lower envelope, seen from the line, of the
+ * parabolas of points as far from a site as from the line -- is a sequence
+ * of arcs; consecutive arcs meet at breakpoints, which trace Voronoi edges.
+ * A site event splits the arc above the new site (or, when the site lies
+ * exactly below a breakpoint, puts a new arc there and starts a vertex at
+ * once); a circle event removes an arc squeezed to a point by its
+ * neighbours, which is a Voronoi vertex.
+ *
+ * Representation.
+ *   - Sites: a private copy of the coordinates sorted by (y, x) (radix sort
+ *     on the bits of y, runs of equal y sorted by x), rescaled by a power of
+ *     two when that is exact so that the filters of fortune_predicates.h
+ *     apply without range tests; orig[] maps back to site indices.
+ *   - Beach line: arcs in a flat pool (index 0 is the nil sentinel, freed
+ *     arcs are reused), linked as a red-black tree in beach-line order and as
+ *     a doubly linked list. A breakpoint is not stored: an arc's site and its
+ *     left neighbour's define it, and both are copied into the arc (one
+ *     64-byte record), so that each level of the search reads one cache line.
+ *     An arc stores the raw edge traced by the breakpoint to its right.
+ *   - Circle events: a binary min-heap of 24-byte entries (an interval for
+ *     the event's y and a record index) holding only live events, at most
+ *     one per arc; the record holds the arc, the heap position and the
+ *     triple of sites. An event is deleted from the heap as soon as its
+ *     triple changes, so no stale event is ever popped. (Lazy deletion was
+ *     measured: the heap grows eightfold with cancelled far-future events
+ *     and needs twice the comparisons.) Sites are not in the heap: the next
+ *     site in sorted order is compared with the heap's top.
+ *   - Output: raw edges (two sites, two ends, and a third site on the circle
+ *     of the first end) and a union-find forest over raw vertices, handed to
+ *     vor__diagram_build(), which computes every coordinate and the
+ *     canonical order. Only the topology is decided here.
+ *
+ * Exactness. Every topological decision is exact:
+ *   - a circle event exists for arcs of sites a, b, c (left to right) iff
+ *     orient2d(a, b, c) > 0 (the breakpoints converge);
+ *   - a site is placed by the exact breakpoint predicate; equality means
+ *     the site is exactly below a breakpoint: a vertex at once;
+ *   - events are ordered exactly, sites by (y, x) and circle events by the
+ *     top of their circle (y, then x); at the same point a circle event
+ *     comes before a site. Each event carries a floating-point interval
+ *     proven to contain its y; only when intervals overlap is the order
+ *     decided otherwise: by cheap proofs of equal tops (circles computed
+ *     exactly in doubles, horizontal translates), by double-double bounds,
+ *     and finally by exact integer arithmetic (a site against a square
+ *     root, or two sums of a rational and a square root). The heap is
+ *     ordered by this exact comparison, so its top is always the next
+ *     event;
+ *   - cocircular sites produce several raw vertices at one point, joined by
+ *     zero-length edges; when an edge's second end is set, the two ends are
+ *     compared exactly (the edge's sites and the ends' third sites
+ *     cocircular) and, if equal, the vertices are united and the edge
+ *     dropped. So the centre of 4+ cocircular sites is one vertex, and no
+ *     edge has zero length;
+ *   - the first sites of equal lowest y start the beach line as a row of
+ *     arcs separated by vertical bisectors, unbounded below.
+ *
+ * Cost: O(n log n) time: sorting O(n), each site one search of the tree
+ * (O(log n) breakpoint predicates), each event O(log n) heap and tree work.
+ * Memory: the sorted copy (20 bytes per site), raw edges (at most 3n, 20
+ * bytes each), union-find (at most 2n, 4 bytes each), the beach line and
+ * heap (O(sqrt n) arcs for typical input, at most 2n). Only the edges
+ * survive, converted in place, into vor__diagram_build().
+ */
+#include <assert.h>
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fortune_predicates.h"
+#include "predicates.h"
+
+#define NIL 0u              /* no arc (the sentinel) */
+#define NO_EVENT UINT32_MAX /* arc without a circle event */
+#define NO_EDGE UINT32_MAX  /* rightmost arc: no breakpoint to its right */
+#define DEAD UINT32_MAX     /* s[0] of a dropped zero-length edge */
+#define ROOT 0x80000000u    /* union-find: marks a numbered root */
+
+typedef struct arc {
+    double xy[2];             /* the arc's site */
+    double lxy[2];            /* the left neighbour's site, if prev != NIL */
+    uint32_t site;            /* sorted site index */
+    uint32_t left, right, up; /* red-black tree links, NIL if none */
+    uint32_t prev, next;      /* beach-line neighbours, NIL if none */
+    uint32_t edge;            /* raw edge of the breakpoint with next */
+    uint32_t ev; /* event record of this arc's triple, or NO_EVENT */
+} arc;
+
+/* A heap entry: lo <= y of the circle's top <= hi. */
+typedef struct event {
+    double lo, hi;
+    uint32_t rec;
+} event;
+
+/* An event record: alive while its event is in the heap. */
+typedef struct evrec {
+    uint32_t arc;  /* the arc the event removes */
+    uint32_t pos;  /* its heap position */
+    uint32_t s[3]; /* its triple, left to right (sorted site indices) */
+} evrec;
+
+/* A raw edge. end[0] is set first; third is a site on end[0]'s circle
+ * other than s[0] and s[1] (the circle of a vertex is that of the three
+ * sites of the event that made it), group the event group (see
+ * sweep.group) in which end[0] was made. */
+typedef struct edge {
+    uint32_t s[2];  /* sorted site indices; s[0] == DEAD if dropped */
+    int32_t end[2]; /* raw vertex ids or VOR_NONE */
+    uint32_t third;
+    uint32_t group;
+} edge;
+
+typedef struct sweep {
+    size_t n;
+    double *xy;     /* 2n, sorted by (y, x), rescaled */
+    uint32_t *orig; /* n: site index of each sorted site */
+    int safe;       /* coordinates in the filters' range */
+
+    arc *arcs;
+    uint8_t *red;    /* colour of each arc */
+    uint32_t n_arcs; /* pool slots used, the sentinel included */
+    uint32_t cap_arcs;
+    uint32_t free_arcs; /* list of freed arcs through .next */
+    uint32_t root;
+
+    event *heap; /* cap_recs entries: one per live record */
+    uint32_t n_heap;
+    evrec *recs;
+    double *cache; /* 6 per record: see event_dd() and event_exact() */
+    uint32_t n_recs, cap_recs;
+    uint32_t free_recs; /* list of freed records through .arc */
+
+    edge *edges;
+    size_t n_edges, cap_edges;
+    uint32_t *parent; /* union-find over raw vertices */
+    size_t n_vert, cap_vert;
+
+    vor__fortune_ws *ws; /* scratch of the exact event comparison */
+
+    /* Event groups: consecutive events whose keys are not proven distinct
+     * share a group number; it grows when an event's y is proven above
+     * every y of the current group (group_hi). Vertices at one point are
+     * made by events with one key, hence in one group: vertices of
+     * different groups are at different points. */
+    uint32_t group;
+    double group_hi;
+} sweep;
+
+static inline const double *site_xy(const sweep *w, uint32_t s) {
+    return w->xy + 2 * (size_t)s;
+}
+
+/* ---- Sorting the sites --------------------------------------------------- */
+
+typedef struct keyed {
+    uint64_t k;
+    uint32_t i;
+} keyed;
+
+/* Order-preserving map of a double (not nan, no -0.0) to an unsigned key. */
+static inline uint64_t dkey(double d) {
+    uint64_t u;
+    memcpy(&u, &d, sizeof u);
+    return (u >> 63) ? ~u : (u | 0x8000000000000000ull);
+}
+
+static int cmp_keyed(const void *p, const void *q) {
+    uint64_t a = ((const keyed *)p)->k, b = ((const keyed *)q)->k;
+    return (a > b) - (a < b);
+}
+
+#define RADIX_BITS 11
+#define RADIX_SIZE (1u << RADIX_BITS)
+#define RADIX_PASSES 6
+
+/* Stable LSD radix sort of a[0..n-1] by k; tmp is scratch of the same size.
+ * Returns the array holding the result (a or tmp), NULL if out of memory.
+ * Passes whose digit is the same for all keys are skipped. */
+static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
+    uint32_t *cnt = calloc((size_t)RADIX_PASSES * RADIX_SIZE, sizeof *cnt);
+    if (!cnt) return NULL;
+    for (size_t j = 0; j < n; j++)
+        for (int d = 0; d < RADIX_PASSES; d++)
+            cnt[d * RADIX_SIZE +
+                ((a[j].k >> (d * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
+    keyed *src = a, *dst = tmp;
+    for (int d = 0; d < RADIX_PASSES; d++) {
+        uint32_t *c = cnt + d * RADIX_SIZE;
+        int trivial = 0;
+        uint32_t sum = 0;
+        for (uint32_t b = 0; b < RADIX_SIZE; b++) {
+            if (c[b] == n) trivial = 1;
+            uint32_t t = c[b];
+            c[b] = sum;
+            sum += t;
+        }
+        if (trivial) continue;
+        for (size_t j = 0; j < n; j++) {
+            uint32_t b =
+                (uint32_t)(src[j].k >> (d * RADIX_BITS)) & (RADIX_SIZE - 1);
+            dst[c[b]++] = src[j];
+        }
+        keyed *t = src;
+        src = dst;
+        dst = t;
+    }
+    free(cnt);
+    return src;
+}
+
+/* Fills w->xy and w->orig: the sites sorted by (y, x), multiplied by
+ * `scale` (a power of two for which that is exact). */
+static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
+    size_t n = s->n;
+    keyed *a = malloc(n * sizeof *a), *tmp = malloc(n * sizeof *tmp);
+    w->xy = malloc(2 * n * sizeof *w->xy);
+    w->orig = malloc(n * sizeof *w->orig);
+    vor_status st = VOR_ENOMEM;
+    if (!a || !tmp || !w->xy || !w->orig) goto done;
+    for (size_t j = 0; j < n; j++) {
+        a[j].k = dkey(s->xy[2 * j + 1]);
+        a[j].i = (uint32_t)j;
+    }
+    keyed *r = radix_sort(a, tmp, n);
+    if (!r) goto done;
+    /* runs of equal y: by x */
+    for (size_t j = 0; j < n;) {
+        size_t k = j + 1;
+        while (k < n && r[k].k == r[j].k) k++;
+        if (k - j > 1) {
+            for (size_t t = j; t < k; t++)
+                r[t].k = dkey(s->xy[2 * (size_t)r[t].i]);
+            qsort(r + j, k - j, sizeof *r, cmp_keyed);
+        }
+        j = k;
+    }
+    for (size_t j = 0; j < n; j++) {
+        uint32_t i = r[j].i;
+        w->xy[2 * j] = s->xy[2 * (size_t)i] * scale;
+        w->xy[2 * j + 1] = s->xy[2 * (size_t)i + 1] * scale;
+        w->orig[j] = i;
+    }
+    st = VOR_OK;
+done:
+    free(a);
+    free(tmp);
+    return st;
+}
+
+/* Chooses the power-of-two scale that brings the largest coordinate into
+ * [1, 2) if that is exact (no scaled value becomes subnormal), and tells
+ * whether the scaled coordinates satisfy the filters' range condition
+ * (every coordinate 0 or in [2^-250, 2), hence every nonzero difference in
+ * [2^-302, 4]). */
+static double choose_scale(const vor_sites *s, int *safe) {
+    double mx = 0, mn = INFINITY;
+    for (size_t j = 0; j < 2 * s->n; j++) {
+        double v = fabs(s->xy[j]);
+        if (v > mx) mx = v;
+        if (v != 0 && v < mn) mn = v;
+    }
+    *safe = 0;
+    if (mx == 0) return 1.0;
+    int e;
+    (void)frexp(mx, &e); /* mx = f 2^e, f in [0.5, 1) */
+    double scale = ldexp(1.0, 1 - e > 1023 ? 1023 : 1 - e);
+    if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) scale = 1.0;
+    double smx = mx * scale, smn = mn * scale;
+    *safe = smx < 2.0 && smn >= 0x1p-250;
+    return scale;
+}
+
+/* ---- Raw output ---------------------------------------------------------- */
+
+static uint32_t vertex_new(sweep *w) {
+    size_t v = w->n_vert++;
+    assert(v < w->cap_vert);
+    w->parent[v] = (uint32_t)v;
+    return (uint32_t)v;
+}
+
+/* A new edge between sites a and b, starting at raw vertex `start` (or
+ * VOR_NONE) whose third site is `third`. */
+static uint32_t edge_new(sweep *w, uint32_t a, uint32_t b, int32_t start,
+                         uint32_t third) {
+    size_t e = w->n_edges++;
+    assert(e < w->cap_edges);
+    edge *g = &w->edges[e];
+    g->s[0] = a;
+    g->s[1] = b;
+    g->end[0] = start;
+    g->end[1] = VOR_NONE;
+    g->third = third;
+    g->group = w->group;
+    return (uint32_t)e;
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+/* 1 if sites t and u lie on the same circle through l and m, exactly. */
+static int same_circle(const sweep *w, uint32_t l, uint32_t m, uint32_t t,
+                       uint32_t u) {
+    const double *pl = site_xy(w, l), *pm = site_xy(w, m);
+    const double *pt = site_xy(w, t), *pu = site_xy(w, u);
+    int s = vor__incircle_filter(pl, pm, pt, pu);
+    if (s != 0) return 0;
+    /* cocircular input (grids, lattices) often has circles computable
+     * exactly in doubles; compare those before exact arithmetic */
+    double c1[3], c2[3];
+    if (vor__fortune_circle_exact_double(pl, pm, pt, c1) &&
+        vor__fortune_circle_exact_double(pl, pm, pu, c2))
+        return c1[0] == c2[0] && c1[1] == c2[1] && c1[2] == c2[2];
+    return vor__incircle_exact(pl, pm, pt, pu) == 0;
+}
+
+/* Sets the next free end of edge e to raw vertex v, whose circle passes
+ * through the edge's sites and site t. If the other end is already a
+ * vertex at the same point -- both lie on the bisector of the edge's sites,
+ * so they coincide iff their circles do -- the vertices are united and the
+ * edge, of zero length, dropped. */
+static void edge_end(sweep *w, uint32_t e, uint32_t v, uint32_t t) {
+    edge *g = &w->edges[e];
+    if (g->end[0] == VOR_NONE) {
+        g->end[0] = (int32_t)v;
+        g->third = t;
+        g->group = w->group;
+        return;
+    }
+    assert(g->end[1] == VOR_NONE);
+    if (g->group == w->group &&
+        (g->third == t || same_circle(w, g->s[0], g->s[1], t, g->third))) {
+        uint32_t ru = uf_find(w->parent, (uint32_t)g->end[0]);
+        uint32_t rv = uf_find(w->parent, v);
+        if (ru < rv)
+            w->parent[rv] = ru;
+        else
+            w->parent[ru] = rv;
+        g->s[0] = DEAD;
+        return;
+    }
+    g->end[1] = (int32_t)v;
+}
+
+/* ---- Arc pool ------------------------------------------------------------ */
+
+/* A new arc of site s (red, unlinked), or NIL if out of memory. */
+static uint32_t arc_new(sweep *w, uint32_t s) {
+    uint32_t a;
+    if (w->free_arcs != NIL) {
+        a = w->free_arcs;
+        w->free_arcs = w->arcs[a].next;
+    } else {
+        if (w->n_arcs == w->cap_arcs) {
+            if (w->cap_arcs > UINT32_MAX / 4) return NIL;
+            uint32_t cap = 2 * w->cap_arcs;
+            arc *na = realloc(w->arcs, (size_t)cap * sizeof *na);
+            if (!na) return NIL;
+            w->arcs = na;
+            uint8_t *nr = realloc(w->red, cap);
+            if (!nr) return NIL;
+            w->red = nr;
+            w->cap_arcs = cap;
+        }
+        a = w->n_arcs++;
+    }
+    arc *x = &w->arcs[a];
+    const double *p = site_xy(w, s);
+    x->xy[0] = p[0];
+    x->xy[1] = p[1];
+    x->site = s;
+    x->left = x->right = x->up = x->prev = x->next = NIL;
+    x->edge = NO_EDGE;
+    x->ev = NO_EVENT;
+    w->red[a] = 1;
+    return a;
+}
+
+static void arc_free(sweep *w, uint32_t a) {
+    w->arcs[a].next = w->free_arcs;
+    w->free_arcs = a;
+}
+
+/* ---- Red-black tree of arcs in beach-line order -----------------------------
+ *
+ * The classic algorithm with a sentinel (arc 0: black, its links scratch);
+ * colours in a separate byte array. Insertion and removal also keep the
+ * list links and the copies of the left neighbour's site.
+ *
+ *        x                y
+ *       / \   left      /  \
+ *      a   y  ----->   x    c
+ *         / \  <----- / \
+ *        b   c  right a  b
+ */
+#define ARC(i) (w->arcs[i])
+#define RED(i) (w->red[i])
+
+static void rotate_left(sweep *w, uint32_t x) {
+    uint32_t y = ARC(x).right;
+    ARC(x).right = ARC(y).left;
+    if (ARC(y).left != NIL) ARC(ARC(y).left).up = x;
+    ARC(y).up = ARC(x).up;
+    if (ARC(x).up == NIL)
+        w->root = y;
+    else if (x == ARC(ARC(x).up).left)
+        ARC(ARC(x).up).left = y;
+    else
+        ARC(ARC(x).up).right = y;
+    ARC(y).left = x;
+    ARC(x).up = y;
+}
+
+static void rotate_right(sweep *w, uint32_t x) {
+    uint32_t y = ARC(x).left;
+    ARC(x).left = ARC(y).right;
+    if (ARC(y).right != NIL) ARC(ARC(y).right).up = x;
+    ARC(y).up = ARC(x).up;
+    if (ARC(x).up == NIL)
+        w->root = y;
+    else if (x == ARC(ARC(x).up).right)
+        ARC(ARC(x).up).right = y;
+    else
+        ARC(ARC(x).up).left = y;
+    ARC(y).right = x;
+    ARC(x).up = y;
+}
+
+/* Inserts arc z right after arc x, in the tree and in the list. */
+static void insert_after(sweep *w, uint32_t x, uint32_t z) {
+    uint32_t nx = ARC(x).next;
+    ARC(z).prev = x;
+    ARC(z).next = nx;
+    ARC(z).lxy[0] = ARC(x).xy[0];
+    ARC(z).lxy[1] = ARC(x).xy[1];
+    if (nx != NIL) {
+        ARC(nx).prev = z;
+        ARC(nx).lxy[0] = ARC(z).xy[0];
+        ARC(nx).lxy[1] = ARC(z).xy[1];
+    }
+    ARC(x).next = z;
+    ARC(z).left = ARC(z).right = NIL;
+    RED(z) = 1;
+    if (ARC(x).right == NIL) {
+        ARC(x).right = z;
+        ARC(z).up = x;
+    } else { /* the successor nx is the leftmost of x's right subtree */
+        ARC(nx).left = z;
+        ARC(z).up = nx;
+    }
+    while (RED(ARC(z).up)) {
+        uint32_t p = ARC(z).up, g = ARC(p).up;
+        if (p == ARC(g).left) {
+            uint32_t u = ARC(g).right;
+            if (RED(u)) {
+                RED(p) = 0;
+                RED(u) = 0;
+                RED(g) = 1;
+                z = g;
+            } else {
+                if (z == ARC(p).right) {
+                    z = p;
+                    rotate_left(w, z);
+                    p = ARC(z).up;
+                }
+                RED(p) = 0;
+                RED(g) = 1;
+                rotate_right(w, g);
+            }
+        } else {
+            uint32_t u = ARC(g).left;
+            if (RED(u)) {
+                RED(p) = 0;
+                RED(u) = 0;
+                RED(g) = 1;
+                z = g;
+            } else {
+                if (z == ARC(p).left) {
+                    z = p;
+                    rotate_right(w, z);
+                    p = ARC(z).up;
+                }
+                RED(p) = 0;
+                RED(g) = 1;
+                rotate_left(w, g);
+            }
+        }
+    }
+    RED(w->root) = 0;
+}
+
+static void transplant(sweep *w, uint32_t u, uint32_t v) {
+    uint32_t p = ARC(u).up;
+    if (p == NIL)
+        w->root = v;
+    else if (u == ARC(p).left)
+        ARC(p).left = v;
+    else
+        ARC(p).right = v;
+    ARC(v).up = p; /* also for the sentinel: the fix-up starts there */
+}
+
+/* Removes arc z from the tree and the list (it is not freed). */
+static void remove_arc(sweep *w, uint32_t z) {
+    uint32_t pz = ARC(z).prev, nz = ARC(z).next;
+    if (pz != NIL) ARC(pz).next = nz;
+    if (nz != NIL) {
+        ARC(nz).prev = pz;
+        ARC(nz).lxy[0] = ARC(z).lxy[0];
+        ARC(nz).lxy[1] = ARC(z).lxy[1];
+    }
+
+    uint32_t y = z, x;
+    int y_red = RED(y);
+    if (ARC(z).left == NIL) {
+        x = ARC(z).right;
+        transplant(w, z, x);
+    } else if (ARC(z).right == NIL) {
+        x = ARC(z).left;
+        transplant(w, z, x);
+    } else {
+        y = nz; /* successor: leftmost of the right subtree */
+        y_red = RED(y);
+        x = ARC(y).right;
+        if (ARC(y).up == z) {
+            ARC(x).up = y;
+        } else {
+            transplant(w, y, x);
+            ARC(y).right = ARC(z).right;
+            ARC(ARC(y).right).up = y;
+        }
+        transplant(w, z, y);
+        ARC(y).left = ARC(z).left;
+        ARC(ARC(y).left).up = y;
+        RED(y) = RED(z);
+    }
+    if (y_red) {
+        RED(NIL) = 0;
+        return;
+    }
+    while (x != w->root && !RED(x)) {
+        uint32_t p = ARC(x).up;
+        if (x == ARC(p).left) {
+            uint32_t s = ARC(p).right;
+            if (RED(s)) {
+                RED(s) = 0;
+                RED(p) = 1;
+                rotate_left(w, p);
+                s = ARC(p).right;
+            }
+            if (!RED(ARC(s).left) && !RED(ARC(s).right)) {
+                RED(s) = 1;
+                x = p;
+            } else {
+                if (!RED(ARC(s).right)) {
+                    RED(ARC(s).left) = 0;
+                    RED(s) = 1;
+                    rotate_right(w, s);
+                    s = ARC(p).right;
+                }
+                RED(s) = RED(p);
+                RED(p) = 0;
+                RED(ARC(s).right) = 0;
+                rotate_left(w, p);
+                x = w->root;
+            }
+        } else {
+            uint32_t s = ARC(p).left;
+            if (RED(s)) {
+                RED(s) = 0;
+                RED(p) = 1;
+                rotate_right(w, p);
+                s = ARC(p).left;
+            }
+            if (!RED(ARC(s).right) && !RED(ARC(s).left)) {
+                RED(s) = 1;
+                x = p;
+            } else {
+                if (!RED(ARC(s).left)) {
+                    RED(ARC(s).right) = 0;
+                    RED(s) = 1;
+                    rotate_left(w, s);
+                    s = ARC(p).left;
+                }
+                RED(s) = RED(p);
+                RED(p) = 0;
+                RED(ARC(s).left) = 0;
+                rotate_right(w, p);
+                x = w->root;
+            }
+        }
+    }
+    RED(x) = 0;
+    RED(NIL) = 0;
+}
+
+/* The arc above site p (sweep line at p.y): the last arc whose left
+ * breakpoint is not right of p. *on is set when p is exactly below that
+ * breakpoint. */
+static uint32_t locate(const sweep *w, const double *p, int *on) {
+    const arc *arcs = w->arcs;
+    uint32_t x = w->root, found = NIL;
+    *on = 0;
+    while (x != NIL) {
+        const arc *ax = &arcs[x];
+        int side = ax->prev == NIL
+                       ? 1
+                       : vor__fortune_bp_side(ax->lxy, ax->xy, p, w->safe);
+        if (side > 0) {
+            found = x;
+            x = ax->right;
+        } else if (side < 0) {
+            x = ax->left;
+        } else {
+            *on = 1;
+            return x;
+        }
+    }
+    assert(found != NIL);
+    return found;
+}
+
+/* ---- Event heap ---------------------------------------------------------- */
+
+/* A free event record, or NO_EVENT if out of memory. The heap grows with
+ * the records, one entry per record. */
+static uint32_t rec_new(sweep *w) {
+    uint32_t r;
+    if (w->free_recs != NO_EVENT) {
+        r = w->free_recs;
+        w->free_recs = w->recs[r].arc;
+        return r;
+    }
+    if (w->n_recs == w->cap_recs) {
+        if (w->cap_recs > UINT32_MAX / 4) return NO_EVENT;
+        uint32_t cap = 2 * w->cap_recs;
+        evrec *nr = realloc(w->recs, (size_t)cap * sizeof *nr);
+        if (!nr) return NO_EVENT;
+        w->recs = nr;
+        double *nc = realloc(w->cache, 6 * (size_t)cap * sizeof *nc);
+        if (!nc) return NO_EVENT;
+        w->cache = nc;
+        event *nh = realloc(w->heap, (size_t)cap * sizeof *nh);
+        if (!nh) return NO_EVENT;
+        w->heap = nh;
+        w->cap_recs = cap;
+    }
+    return w->n_recs++;
+}
+
+static void rec_free(sweep *w, uint32_t r) {
+    w->recs[r].arc = w->free_recs;
+    w->free_recs = r;
+}
+
+/* What the tie-breaking stages know about record r's event, computed on
+ * first use (c[2], c[5] are NAN until then): c[0..2] the double-double
+ * bounds (hi, lo, err; err < 0 if unavailable), c[3..5] the circle exactly
+ * in doubles (x, y, r^2; r^2 < 0 if not exact). */
+static int event_dd(sweep *w, uint32_t r, const double **v) {
+    const evrec *e = &w->recs[r];
+    double *c = w->cache + 6 * (size_t)r;
+    if (isnan(c[2])) {
+        if (!w->safe || !vor__fortune_circle_top_dd(
+                            site_xy(w, e->s[0]), site_xy(w, e->s[1]),
+                            site_xy(w, e->s[2]), &c[0], &c[1], &c[2]))
+            c[2] = -1;
+    }
+    *v = c;
+    return c[2] >= 0;
+}
+
+static int event_exact(sweep *w, uint32_t r, const double **v) {
+    const evrec *e = &w->recs[r];
+    double *c = w->cache + 6 * (size_t)r;
+    if (isnan(c[5])) {
+        if (!vor__fortune_circle_exact_double(site_xy(w, e->s[0]),
+                                              site_xy(w, e->s[1]),
+                                              site_xy(w, e->s[2]), c + 3))
+            c[5] = -1;
+    }
+    *v = c + 3;
+    return c[5] >= 0;
+}
+
+/* Order of the events of records r1, r2 whose float intervals overlap (see
+ * ev_before): cheapest first, two circles known exactly in doubles or a
+ * horizontal translate prove equal tops, the double-double bounds separate
+ * nearly equal ones, and the integer comparison of the two tops decides the
+ * rest. Events at the same point are ordered by record index (any fixed
+ * order would do). */
+static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
+    const double *e1, *e2;
+    if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) && e1[1] == e2[1] &&
+        e1[2] == e2[2])
+        return e1[0] != e2[0] ? e1[0] < e2[0] : r1 < r2;
+    const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;
+    const double *a1 = site_xy(w, t1[0]), *b1 = site_xy(w, t1[1]),
+                 *c1 = site_xy(w, t1[2]);
+    const double *a2 = site_xy(w, t2[0]), *b2 = site_xy(w, t2[1]),
+                 *c2 = site_xy(w, t2[2]);
+    if (vor__fortune_translated(a1, b1, c1, a2, b2, c2))
+        return a1[0] != a2[0] ? a1[0] < a2[0] : r1 < r2;
+    const double *d1, *d2;
+    if (event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+        int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
+        if (c != 0) return c < 0;
+    }
+    int c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
+    return c != 0 ? c < 0 : r1 < r2;
+}
+
+/* 1 if event x comes strictly before event y in sweep order. Exact: the
+ * float intervals decide when they are disjoint, ev_tie() otherwise. */
+static inline int ev_before(sweep *w, const event *x, const event *y) {
+    if (x->hi < y->lo) return 1;
+    if (y->hi < x->lo) return 0;
+    return ev_tie(w, x->rec, y->rec);
+}
+
+static inline void heap_put(sweep *w, uint32_t pos, event e) {
+    w->heap[pos] = e;
+    w->recs[e.rec].pos = pos;
+}
+
+static void sift_up(sweep *w, uint32_t pos, event e) {
+    while (pos > 0) {
+        uint32_t par = (pos - 1) / 2;
+        if (!ev_before(w, &e, &w->heap[par])) break;
+        heap_put(w, pos, w->heap[par]);
+        pos = par;
+    }
+    heap_put(w, pos, e);
+}
+
+/* Removes the entry at pos: the hole sinks to a leaf along the earlier
+ * child (one comparison per level), the last entry fills it and rises to
+ * its place. */
+static void heap_remove(sweep *w, uint32_t pos) {
+    uint32_t n = --w->n_heap;
+    if (pos == n) return;
+    event last = w->heap[n];
+    for (;;) {
+        uint32_t c = 2 * pos + 1;
+        if (c >= n) break;
+        if (c + 1 < n && ev_before(w, &w->heap[c + 1], &w->heap[c])) c++;
+        heap_put(w, pos, w->heap[c]);
+        pos = c;
+    }
+    sift_up(w, pos, last);
+}
+
+/* Deletes arc b's circle event, if it has one. */
+static void drop_event(sweep *w, uint32_t b) {
+    uint32_t r = ARC(b).ev;
+    if (r == NO_EVENT) return;
+    ARC(b).ev = NO_EVENT;
+    heap_remove(w, w->recs[r].pos);
+    rec_free(w, r);
+}
+
+/* Gives arc b the circle event of its triple, if the breakpoints around it
+ * converge (exact orient2d > 0). b must have no event. VOR_ENOMEM if the
+ * heap cannot grow. */
+static vor_status add_event(sweep *w, uint32_t b) {
+    const arc *x = &w->arcs[b];
+    assert(x->ev == NO_EVENT);
+    if (x->prev == NIL || x->next == NIL) return VOR_OK;
+    const arc *z = &w->arcs[x->next];
+    uint32_t sa = ARC(x->prev).site, sc = z->site;
+    if (sa == sc) return VOR_OK;
+    if (vor__orient2d_fast(x->lxy, x->xy, z->xy) <= 0) return VOR_OK;
+    uint32_t r = rec_new(w);
+    if (r == NO_EVENT) return VOR_ENOMEM;
+    evrec *rec = &w->recs[r];
+    rec->arc = b;
+    rec->s[0] = sa;
+    rec->s[1] = x->site;
+    rec->s[2] = sc;
+    double *cache = w->cache + 6 * (size_t)r; /* nothing known about ties yet */
+    cache[2] = cache[5] = NAN;
+    event e;
+    vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, &e.lo, &e.hi);
+    e.rec = r;
+    w->n_heap++;
+    sift_up(w, w->n_heap - 1, e);
+    ARC(b).ev = r;
+    return VOR_OK;
+}
+
+/* ---- Events -------------------------------------------------------------- */
+
+/* Site i: split the arc above it, or open a vertex at once if it lies
+ * exactly below a breakpoint.
+ *
+ *   inside arc b:            below the breakpoint of l and r:
+ *     ... b ...                ... l | r ...
+ *     ... b | i | b2 ...       ... l | i | r ...   vertex (l, i, r) at once
+ *   edge (b, i) traced by      edge (l, r) ends there; (l, i) and (i, r)
+ *   both new breakpoints       start there
+ */
+static vor_status site_event(sweep *w, uint32_t i) {
+    const double *p = site_xy(w, i);
+    int on;
+    uint32_t b = locate(w, p, &on);
+    vor_status st;
+    if (!on) {
+        uint32_t s = arc_new(w, i);
+        if (s == NIL) return VOR_ENOMEM;
+        uint32_t b2 = arc_new(w, ARC(b).site);
+        if (b2 == NIL) return VOR_ENOMEM;
+        drop_event(w, b);
+        uint32_t e = edge_new(w, ARC(b).site, i, VOR_NONE, 0);
+        ARC(b2).edge = ARC(b).edge;
+        ARC(b).edge = e;
+        ARC(s).edge = e;
+        insert_after(w, b, s);
+        insert_after(w, s, b2);
+        if ((st = add_event(w, b)) != VOR_OK) return st;
+        return add_event(w, b2);
+    }
+    uint32_t r = b, l = ARC(b).prev;
+    uint32_t s = arc_new(w, i);
+    if (s == NIL) return VOR_ENOMEM;
+    drop_event(w, l);
+    drop_event(w, r);
+    uint32_t sl = ARC(l).site, sr = ARC(r).site;
+    uint32_t v = vertex_new(w);
+    edge_end(w, ARC(l).edge, v, i);
+    ARC(l).edge = edge_new(w, sl, i, (int32_t)v, sr);
+    ARC(s).edge = edge_new(w, i, sr, (int32_t)v, sl);
+    insert_after(w, l, s);
+    if ((st = add_event(w, l)) != VOR_OK) return st;
+    return add_event(w, r);
+}
+
+/* Circle event of arc b between a and c: vertex (a, b, c); the edges of
+ * (a, b) and (b, c) end there, the edge of (a, c) starts there.
+ *
+ *     ... a | b | c ...   -->   ... a | c ...
+ */
+static vor_status circle_event(sweep *w, uint32_t b) {
+    uint32_t a = ARC(b).prev, c = ARC(b).next;
+    drop_event(w, a);
+    drop_event(w, c);
+    uint32_t sa = ARC(a).site, sb = ARC(b).site, sc = ARC(c).site;
+    uint32_t v = vertex_new(w);
+    edge_end(w, ARC(a).edge, v, sc);
+    edge_end(w, ARC(b).edge, v, sa);
+    ARC(a).edge = edge_new(w, sa, sc, (int32_t)v, sb);
+    remove_arc(w, b);
+    arc_free(w, b);
+    vor_status st = add_event(w, a);
+    if (st != VOR_OK) return st;
+    return add_event(w, c);
+}
+
+/* ---- Driver -------------------------------------------------------------- */
+
+/* 1 if the event at the top of the heap comes before site p. */
+static int event_first(sweep *w, const double *p) {
+    const event *e = &w->heap[0];
+    if (e->lo > p[1]) return 0;
+    if (e->hi < p[1]) return 1;
+    const uint32_t *t = w->recs[e->rec].s;
+    return !vor__fortune_site_first_exact(p, site_xy(w, t[0]), site_xy(w, t[1]),
+                                          site_xy(w, t[2]));
+}
+
+/* Enters the event group of the next event, whose y lies in [lo, hi]. */
+static inline void new_key(sweep *w, double lo, double hi) {
+    if (lo > w->group_hi) w->group++;
+    if (hi > w->group_hi) w->group_hi = hi;
+}
+
+static vor_status sweep_run(sweep *w) {
+    size_t n = w->n;
+    /* the first row: sites of the lowest y, left to right */
+    uint32_t last = arc_new(w, 0);
+    if (last == NIL) return VOR_ENOMEM;
+    RED(last) = 0;
+    w->root = last;
+    size_t i = 1;
+    while (i < n && w->xy[2 * i + 1] == w->xy[1]) {
+        uint32_t s = arc_new(w, (uint32_t)i);
+        if (s == NIL) return VOR_ENOMEM;
+        ARC(last).edge =
+            edge_new(w, (uint32_t)(i - 1), (uint32_t)i, VOR_NONE, 0);
+        insert_after(w, last, s);
+        last = s;
+        i++;
+    }
+    for (;;) {
+        vor_status st;
+        if (w->n_heap > 0 &&
+            (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
+            const event *e = &w->heap[0];
+            new_key(w, e->lo, e->hi);
+            uint32_t b = w->recs[e->rec].arc;
+            drop_event(w, b);
+            st = circle_event(w, b);
+        } else if (i < n) {
+            double y = w->xy[2 * i + 1];
+            new_key(w, y, y);
+            st = site_event(w, (uint32_t)i++);
+        } else {
+            return VOR_OK;
+        }
+        if (st != VOR_OK) return st;
+    }
+}
+
+static void sweep_free(sweep *w) {
+    free(w->xy);
+    free(w->orig);
+    free(w->arcs);
+    free(w->red);
+    free(w->heap);
+    free(w->recs);
+    free(w->cache);
+    free(w->edges);
+    free(w->parent);
+    vor__fortune_ws_free(w->ws);
+}
+
+/* Numbers the union-find roots densely and converts the raw edges in place
+ * into the builder's arrays: *edges_out (site indices, 2 per edge, the
+ * memory of w->edges, shrunk) and *ends_out (vertex numbers). Dropped edges
+ * disappear. Returns the number of vertices, or (size_t)-1 if out of
+ * memory (w->edges then still belongs to w). */
+static size_t compact(sweep *w, uint32_t **edges_out, int32_t **ends_out,
+                      size_t *n_edges) {
+    uint32_t *parent = w->parent;
+    size_t nv = 0, ne = 0;
+    for (size_t v = 0; v < w->n_vert; v++)
+        parent[v] = uf_find(parent, (uint32_t)v);
+    for (size_t v = 0; v < w->n_vert; v++)
+        if (parent[v] == v) parent[v] = ROOT | (uint32_t)nv++;
+    for (size_t e = 0; e < w->n_edges; e++) ne += w->edges[e].s[0] != DEAD;
+    int32_t *ends = malloc((ne ? 2 * ne : 1) * sizeof *ends);
+    if (!ends) return (size_t)-1;
+    /* record e (20 bytes at 20e) is read before output k <= e (8 bytes at
+     * 8k) is written, and 8k + 8 <= 20e for k <= e, k >= 1 */
+    uint32_t *out = (uint32_t *)(void *)w->edges;
+    size_t k = 0;
+    for (size_t e = 0; e < w->n_edges; e++) {
+        edge g = w->edges[e];
+        if (g.s[0] == DEAD) continue;
+        for (int j = 0; j < 2; j++) {
+            int32_t v = g.end[j];
+            if (v >= 0) {
+                uint32_t p = parent[v];
+                if (!(p & ROOT)) p = parent[p];
+                v = (int32_t)(p & ~ROOT);
+            }
+            ends[2 * k + (size_t)j] = v;
+        }
+        assert(ends[2 * k] < 0 || ends[2 * k] != ends[2 * k + 1]);
+        out[2 * k] = w->orig[g.s[0]];
+        out[2 * k + 1] = w->orig[g.s[1]];
+        k++;
+    }
+    uint32_t *shrunk = realloc(out, (ne ? 2 * ne : 1) * sizeof *shrunk);
+    *edges_out = shrunk ? shrunk : out;
+    w->edges = NULL;
+    *ends_out = ends;
+    *n_edges = ne;
+    return nv;
+}
 
 vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
-    (void)s;
+    if (!out) return VOR_EINVAL;
     *out = NULL;
-    return VOR_EUNAVAILABLE;
+    if (!s || s->n < 3 || !s->xy) return VOR_EINVAL;
+    if (s->n > VOR_MAX_POINTS) return VOR_ETOOMANY;
+
+    sweep w;
+    memset(&w, 0, sizeof w);
+    w.n = s->n;
+    vor_status st;
+    double scale = choose_scale(s, &w.safe);
+    if ((st = sort_sites(&w, s, scale)) != VOR_OK) goto fail;
+
+    st = VOR_ENOMEM;
+    w.cap_arcs = 64;
+    w.arcs = malloc(w.cap_arcs * sizeof *w.arcs);
+    w.red = malloc(w.cap_arcs);
+    w.cap_recs = 64;
+    w.recs = malloc(w.cap_recs * sizeof *w.recs);
+    w.heap = malloc(w.cap_recs * sizeof *w.heap);
+    w.cache = malloc(6 * (size_t)w.cap_recs * sizeof *w.cache);
+    w.cap_edges = 3 * w.n;
+    w.cap_vert = 2 * w.n;
+    w.edges = malloc(w.cap_edges * sizeof *w.edges);
+    w.parent = malloc(w.cap_vert * sizeof *w.parent);
+    w.ws = vor__fortune_ws_new();
+    if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.edges ||
+        !w.parent || !w.ws)
+        goto fail;
+    memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
+    w.red[NIL] = 0;
+    w.n_arcs = 1;
+    w.free_arcs = NIL;
+    w.free_recs = NO_EVENT;
+    w.group_hi = -INFINITY;
+
+    if ((st = sweep_run(&w)) != VOR_OK) goto fail;
+
+    /* free what the conversion does not need before it allocates */
+    free(w.arcs);
+    free(w.red);
+    free(w.heap);
+    free(w.recs);
+    free(w.cache);
+    vor__fortune_ws_free(w.ws);
+    free(w.xy);
+    w.arcs = NULL;
+    w.red = NULL;
+    w.heap = NULL;
+    w.recs = NULL;
+    w.cache = NULL;
+    w.ws = NULL;
+    w.xy = NULL;
+    uint32_t *edges;
+    int32_t *ends;
+    size_t ne, nv = compact(&w, &edges, &ends, &ne);
+    if (nv == (size_t)-1) {
+        st = VOR_ENOMEM;
+        goto fail;
+    }
+    sweep_free(&w);
+    if (nv == 0) { /* no vertex: the sites were collinear after all */
+        free(edges);
+        free(ends);
+        return vor__diagram_degenerate(s, out);
+    }
+    return vor__diagram_build(s, nv, edges, ends, ne, out);
+
+fail:
+    sweep_free(&w);
+    return st;
 }

@@ -1,0 +1,755 @@
+/* fortune_predicates.c -- out-of-line parts of the sweep's predicates (see
+ * fortune_predicates.h): the rescaled filters and the exact evaluations.
+ *
+ * Exact stage. Every finite double is an odd integer times a power of two
+ * 2^e with e >= -1074. The inputs of one call are written as integers times
+ * 2^E, E the smallest such exponent among them; every expression here is a
+ * homogeneous polynomial in differences of the inputs, so its sign does not
+ * depend on the common factor, and it is evaluated on those integers. They
+ * have at most 2098 bits, so an expression of degree k has at most about
+ * 2100 k bits: the breakpoint polynomial (degree 3) and the site-versus-
+ * circle test (degree 6) use limb arrays on the stack (at most about
+ * 25 KiB), the comparison of two circle events (degree 20) a workspace the
+ * caller allocates once. GMP's mpn layer, which does not allocate, does the
+ * arithmetic, so nothing here can fail.
+ *
+ * Cost: rescaled filters some tens of nanoseconds; exact evaluation a few
+ * microseconds (more for inputs spanning many binary orders of magnitude).
+ */
+#include <assert.h>
+#include <float.h>
+#include <gmp.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fortune_predicates.h"
+
+#if GMP_NUMB_BITS != 64 || GMP_NAIL_BITS != 0
+#error "fortune_predicates.c assumes 64-bit GMP limbs without nail bits"
+#endif
+
+/* ---- Signed integers on limb arrays -------------------------------------- */
+
+/* n: number of limbs in use, negated for a negative value; 0 is zero;
+ * d[|n| - 1] != 0 when n != 0. d has room for cap limbs (the callers size
+ * every variable for the largest value it can receive). */
+typedef struct big {
+    int n;
+    int cap;
+    mp_limb_t *d;
+} big;
+
+/* A big named `name` with `limbs` limbs of automatic storage. */
+#define BIG_LOCAL(name, limbs)     \
+    mp_limb_t name##_limbs[limbs]; \
+    big name = {0, (limbs), name##_limbs}
+
+/* Limbs of an input converted by big_from_doubles: at most 2098 bits. */
+#define IN_LIMBS 34
+
+static int big_sign(const big *x) {
+    return (x->n > 0) - (x->n < 0);
+}
+
+/* x = m * 2^shift, m a nonzero integer of at most 53 bits (sign included). */
+static void big_set_shifted(big *x, int64_t m, int shift) {
+    uint64_t u = m < 0 ? (uint64_t)(-m) : (uint64_t)m;
+    int limb = shift / GMP_NUMB_BITS, bit = shift % GMP_NUMB_BITS;
+    assert(u != 0 && limb + 2 <= x->cap);
+    memset(x->d, 0, (size_t)(limb + 2) * sizeof x->d[0]);
+    x->d[limb] = (mp_limb_t)u << bit;
+    x->d[limb + 1] = bit ? (mp_limb_t)(u >> (GMP_NUMB_BITS - bit)) : 0;
+    int n = limb + 2;
+    while (n > 0 && x->d[n - 1] == 0) n--;
+    x->n = m < 0 ? -n : n;
+}
+
+/* v = *m * 2^*e with *m odd; v != 0 and finite. */
+static void split_double(double v, int64_t *m, int *e) {
+    int ex;
+    double f = frexp(v, &ex); /* v = f 2^ex, 0.5 <= |f| < 1 */
+    int64_t mm = (int64_t)ldexp(f, 53);
+    ex -= 53;
+    while ((mm & 1) == 0) {
+        mm /= 2;
+        ex++;
+    }
+    *m = mm;
+    *e = ex;
+}
+
+/* Converts k <= 12 doubles to integers sharing the factor 2^E (see
+ * above); every out[i] needs IN_LIMBS limbs. */
+static void big_from_doubles(big *out, const double *v, int k) {
+    int64_t m[12] = {0};
+    int e[12] = {0}, emin = INT32_MAX;
+    assert(k <= 12);
+    for (int i = 0; i < k; i++) {
+        if (v[i] == 0) continue;
+        split_double(v[i], &m[i], &e[i]);
+        if (e[i] < emin) emin = e[i];
+    }
+    for (int i = 0; i < k; i++) {
+        if (v[i] == 0)
+            out[i].n = 0;
+        else
+            big_set_shifted(&out[i], m[i], e[i] - emin);
+    }
+}
+
+/* |r| = |x| + |y|; r distinct from x and y. */
+static void mag_add(big *r, const big *x, const big *y) {
+    int nx = abs(x->n), ny = abs(y->n);
+    if (nx < ny) {
+        const big *t = x;
+        x = y;
+        y = t;
+        int tn = nx;
+        nx = ny;
+        ny = tn;
+    }
+    assert(nx + 1 <= r->cap);
+    if (ny == 0) {
+        memcpy(r->d, x->d, (size_t)nx * sizeof r->d[0]);
+        r->n = nx;
+        return;
+    }
+    mp_limb_t carry = mpn_add(r->d, x->d, nx, y->d, ny);
+    r->d[nx] = carry;
+    r->n = nx + (carry != 0);
+}
+
+static int mag_cmp(const big *x, const big *y) {
+    int nx = abs(x->n), ny = abs(y->n);
+    if (nx != ny) return nx < ny ? -1 : 1;
+    return mpn_cmp(x->d, y->d, nx);
+}
+
+/* |r| = |x| - |y| with |x| >= |y|; r distinct from x and y. */
+static void mag_sub(big *r, const big *x, const big *y) {
+    int nx = abs(x->n), ny = abs(y->n);
+    assert(nx <= r->cap);
+    if (ny == 0)
+        memcpy(r->d, x->d, (size_t)nx * sizeof r->d[0]);
+    else
+        mpn_sub(r->d, x->d, nx, y->d, ny);
+    while (nx > 0 && r->d[nx - 1] == 0) nx--;
+    r->n = nx;
+}
+
+static void big_copy(big *r, const big *x, int sign) {
+    int n = abs(x->n);
+    assert(n <= r->cap);
+    memcpy(r->d, x->d, (size_t)n * sizeof r->d[0]);
+    r->n = sign * n;
+}
+
+/* r = x + sy * y, sy = +1 or -1; r distinct from x and y. */
+static void big_addsub(big *r, const big *x, const big *y, int sy) {
+    int sx = big_sign(x), s2 = big_sign(y) * sy;
+    if (s2 == 0) {
+        big_copy(r, x, sx);
+        return;
+    }
+    if (sx == 0) {
+        big_copy(r, y, s2);
+        return;
+    }
+    if (sx == s2) {
+        mag_add(r, x, y);
+        r->n *= sx;
+        return;
+    }
+    int c = mag_cmp(x, y);
+    if (c == 0) {
+        r->n = 0;
+    } else if (c > 0) {
+        mag_sub(r, x, y);
+        r->n *= sx;
+    } else {
+        mag_sub(r, y, x);
+        r->n *= s2;
+    }
+}
+
+static void big_add(big *r, const big *x, const big *y) {
+    big_addsub(r, x, y, 1);
+}
+static void big_sub(big *r, const big *x, const big *y) {
+    big_addsub(r, x, y, -1);
+}
+
+/* r = x * y; r distinct from x and y. */
+static void big_mul(big *r, const big *x, const big *y) {
+    int nx = abs(x->n), ny = abs(y->n);
+    if (nx == 0 || ny == 0) {
+        r->n = 0;
+        return;
+    }
+    assert(nx + ny <= r->cap);
+    if (nx >= ny)
+        mpn_mul(r->d, x->d, nx, y->d, ny);
+    else
+        mpn_mul(r->d, y->d, ny, x->d, nx);
+    int n = nx + ny;
+    while (n > 0 && r->d[n - 1] == 0) n--;
+    r->n = (big_sign(x) * big_sign(y)) * n;
+}
+
+/* Signed comparison: -1, 0, +1 for x <, =, > y. */
+static int big_cmp(const big *x, const big *y) {
+    int sx = big_sign(x), sy = big_sign(y);
+    if (sx != sy) return sx < sy ? -1 : 1;
+    if (sx == 0) return 0;
+    return sx * mag_cmp(x, y);
+}
+
+/* out[2(i-1)], out[2(i-1)+1] = point i minus point 0, for the k <= 4
+ * points (x,y pairs) of v, as integers sharing one factor 2^E; each out
+ * needs IN_LIMBS + 1 limbs. A separate frame, so that the converted inputs
+ * do not stay on the stack. */
+static void big_diffs(big *out, const double *v, int k) {
+    mp_limb_t store[8][IN_LIMBS];
+    big in[8];
+    assert(k <= 4);
+    for (int i = 0; i < 2 * k; i++) in[i] = (big){0, IN_LIMBS, store[i]};
+    big_from_doubles(in, v, 2 * k);
+    for (int i = 1; i < k; i++) {
+        big_sub(&out[2 * (i - 1)], &in[2 * i], &in[0]);
+        big_sub(&out[2 * (i - 1) + 1], &in[2 * i + 1], &in[1]);
+    }
+}
+
+/* ---- Breakpoint polynomial F --------------------------------------------- */
+
+/* Largest magnitude of four values (nan propagates as "not <= DBL_MAX"). */
+static double max4(double a, double b, double c, double d) {
+    double m = fabs(a);
+    if (!(fabs(b) <= m)) m = fabs(b);
+    if (!(fabs(c) <= m)) m = fabs(c);
+    if (!(fabs(d) <= m)) m = fabs(d);
+    return m;
+}
+
+/* 1 if every nonzero value among four is at least 2^-300 in magnitude. */
+static int min4_ok(double a, double b, double c, double d) {
+    const double lim = 0x1p-300;
+    return (a == 0 || fabs(a) >= lim) && (b == 0 || fabs(b) >= lim) &&
+           (c == 0 || fabs(c) >= lim) && (d == 0 || fabs(d) >= lim);
+}
+
+static int bp_poly_exact(const double *a, const double *b, const double *p) {
+    /* differences from p: (a - p, b - p) = -(u, v); F is odd in them, so
+     * negate the result */
+    const double v[6] = {p[0], p[1], a[0], a[1], b[0], b[1]};
+    mp_limb_t store[4][IN_LIMBS + 1];
+    big dif[4];
+    for (int i = 0; i < 4; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
+    BIG_LOCAL(s1, 2 * IN_LIMBS + 2);
+    BIG_LOCAL(s2, 2 * IN_LIMBS + 2);
+    BIG_LOCAL(f, 2 * IN_LIMBS + 3);
+    BIG_LOCAL(t1, 3 * IN_LIMBS + 4);
+    BIG_LOCAL(t2, 3 * IN_LIMBS + 4);
+    big_diffs(dif, v, 3);
+    const big *ux = &dif[0], *uy = &dif[1], *vx = &dif[2], *vy = &dif[3];
+    /* t1 = (ux^2 + uy^2) vy */
+    big_mul(&s1, ux, ux);
+    big_mul(&s2, uy, uy);
+    big_add(&f, &s1, &s2);
+    big_mul(&t1, &f, vy);
+    /* t2 = (vx^2 + vy^2) uy */
+    big_mul(&s1, vx, vx);
+    big_mul(&s2, vy, vy);
+    big_add(&f, &s1, &s2);
+    big_mul(&t2, &f, uy);
+    return -big_cmp(&t1, &t2);
+}
+
+int vor__fortune_bp_poly_slow(const double *a, const double *b,
+                              const double *p) {
+    double ux = p[0] - a[0], uy = p[1] - a[1];
+    double vx = p[0] - b[0], vy = p[1] - b[1];
+    double m = max4(ux, uy, vx, vy);
+    if (m > 0 && m <= DBL_MAX) {
+        /* A power-of-two rescale is exact as long as nothing becomes
+         * subnormal, which the range test below makes sure of; F is
+         * homogeneous, so its sign is unchanged. */
+        int e;
+        (void)frexp(m, &e);
+        ux = ldexp(ux, -e);
+        uy = ldexp(uy, -e);
+        vx = ldexp(vx, -e);
+        vy = ldexp(vy, -e);
+        if (min4_ok(ux, uy, vx, vy)) {
+            double t1 = (ux * ux + uy * uy) * vy;
+            double t2 = (vx * vx + vy * vy) * uy;
+            double f = t1 - t2, bound = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
+            if (f > bound) return 1;
+            if (-f > bound) return -1;
+        }
+    }
+    return bp_poly_exact(a, b, p);
+}
+
+/* ---- Top of a circle --------------------------------------------------------
+ *
+ * With b = B - A, c = C - A (rounded differences), the centre is
+ * A + (nx, ny) / (2d) with d = bx cy - by cx, nx = cy |b|^2 - by |c|^2,
+ * ny = bx |c|^2 - cx |b|^2, and the top is A.y + g with
+ * g = uy + sqrt(ux^2 + uy^2), (ux, uy) = (nx, ny) / (2d). For uy < 0 the sum
+ * cancels, so g is computed as ux^2 / (r - uy) instead (same value).
+ *
+ * Errors, against the exact values for the exact differences:
+ *   d:  |d~ - d| <= ed = 4 eps (|bx cy| + |by cx|)   (Shewchuk's orient2d
+ *       bound (3 + 16 eps) eps, with room for rounding the bound);
+ *   nx: |nx~ - nx| <= enx = 8 eps (|cy |b|^2| + |by |c|^2|) (as F above);
+ *   ux: with ed <= |d~| / 2 (else no bound is attempted), |d| >= |d~| / 2 and
+ *       |nx~/d~ - nx/d| <= enx/|d~| + (|nx~| + enx) ed / (|d~| |d|), so
+ *       eux = enx / (2|d~|) + (|nx~| + enx) ed / d~^2 + 4 eps |ux~|
+ *       (the last term for the rounded reciprocal 1 / (2 d~) and product,
+ *       with room); likewise euy;
+ *   g:  as a function of (ux, uy) g is 1-Lipschitz in ux and 2-Lipschitz in
+ *       uy (gradient (ux/r, 1 + uy/r)), so the inputs contribute
+ *       eux + 2 euy; evaluating g rounds by at most 4 eps g (uy >= 0: two
+ *       squares, a sum, a root, an addition) or 8 eps g (uy < 0: one more
+ *       division and subtraction);
+ *   top: A.y + g rounds once more.
+ * The sum is doubled to cover second-order terms and the rounding of the
+ * bound's own arithmetic. Range: with every nonzero difference in
+ * [2^-302, 4] no product underflows except possibly ux^2 or uy^2 when that
+ * coordinate of the centre offset is tiny; since r >= 2^-303 (half the
+ * distance of two distinct sites) such an underflow changes g by less than
+ * 2^-770, covered by an absolute 2^-700. Outside that range the
+ * differences are first rescaled by a power of two (exact when the range
+ * test passes) and the result scaled back, with an absolute 2^-1060 for a
+ * possible underflow there. Overflow makes a value inf or nan, which the
+ * final test turns into "no bound". */
+void vor__fortune_circle_top(const double *a, const double *b, const double *c,
+                             int safe, double *lo, double *hi) {
+    double bx = b[0] - a[0], by = b[1] - a[1];
+    double cx = c[0] - a[0], cy = c[1] - a[1];
+    int e = 0;
+    if (!safe) {
+        double m = max4(bx, by, cx, cy);
+        if (!(m > 0 && m <= DBL_MAX)) goto unknown;
+        (void)frexp(m, &e);
+        bx = ldexp(bx, -e);
+        by = ldexp(by, -e);
+        cx = ldexp(cx, -e);
+        cy = ldexp(cy, -e);
+        if (!min4_ok(bx, by, cx, cy)) goto unknown;
+    }
+    double l = bx * cy, r = by * cx, d = l - r;
+    double ed = 0x1p-51 * (fabs(l) + fabs(r));
+    double ad = fabs(d);
+    if (!(ad > 2 * ed)) goto unknown;
+    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    double t1 = cy * b2, t2 = by * c2, t3 = bx * c2, t4 = cx * b2;
+    double nx = t1 - t2, ny = t3 - t4;
+    double enx = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
+    double eny = VOR__BP_BOUND * (fabs(t3) + fabs(t4));
+    double inv = 0.5 / d, iad = fabs(inv);
+    double ux = nx * inv, uy = ny * inv;
+    double q = ed * iad;
+    double eux = (enx + 4 * (fabs(nx) + enx) * q) * iad + 0x1p-51 * fabs(ux);
+    double euy = (eny + 4 * (fabs(ny) + eny) * q) * iad + 0x1p-51 * fabs(uy);
+    double rr = sqrt(ux * ux + uy * uy);
+    double g, eg;
+    if (uy >= 0) {
+        g = uy + rr;
+        eg = 0x1p-51 * g;
+    } else {
+        g = (ux * ux) / (rr - uy);
+        eg = 0x1p-50 * g;
+    }
+    double err = eux + 2 * euy + eg + 0x1p-700;
+    if (!safe) {
+        g = ldexp(g, e);
+        err = ldexp(err, e) + 0x1p-1060;
+    }
+    double t = a[1] + g;
+    err = 2 * err + 0x1p-51 * (fabs(a[1]) + g + fabs(t));
+    if (!(err <= DBL_MAX) || !(fabs(t) <= DBL_MAX)) goto unknown;
+    *lo = t - err;
+    *hi = t + err;
+    return;
+unknown:
+    *lo = -INFINITY;
+    *hi = INFINITY;
+}
+
+/* ---- Double-double evaluation of the top ------------------------------------
+ *
+ * A second filter for events whose float intervals overlap (nearly equal
+ * tops, as for sites nearly on one circle). The same formulas as above in
+ * double-double arithmetic (a value is hi + lo, |lo| <= ulp(hi) / 2):
+ * differences are exact (two_diff), and every operation below has a
+ * relative error of at most 6 u^2 (u = 2^-53): addition 3 u^2 (the
+ * accurate double-word addition), multiplication 4 u^2 (with fma), division
+ * and square root about 4 u^2 (one correction step each), following Joldes,
+ * Muller and Popescu, "Tight and rigorous error bounds for basic building
+ * blocks of double-word arithmetic" (2017). The error analysis of the float
+ * version holds with eps replaced by E2 = 2^-100 = 64 u^2 (a margin of ten
+ * over the per-operation bound covers the roundings of the bound itself).
+ * Requires the safe range; not attempted otherwise. */
+
+typedef struct dd {
+    double hi, lo;
+} dd;
+
+#define E2 0x1p-100
+
+static inline dd two_sum(double a, double b) {
+    double s = a + b, bb = s - a;
+    return (dd){s, (a - (s - bb)) + (b - bb)};
+}
+
+static inline dd fast_two_sum(double a, double b) { /* |a| >= |b| or a = 0 */
+    double s = a + b;
+    return (dd){s, b - (s - a)};
+}
+
+static inline dd two_prod(double a, double b) {
+    double p = a * b;
+    return (dd){p, fma(a, b, -p)};
+}
+
+static inline dd dd_add(dd x, dd y) {
+    dd s = two_sum(x.hi, y.hi), t = two_sum(x.lo, y.lo);
+    dd v = fast_two_sum(s.hi, s.lo + t.hi);
+    return fast_two_sum(v.hi, t.lo + v.lo);
+}
+
+static inline dd dd_neg(dd x) {
+    return (dd){-x.hi, -x.lo};
+}
+
+static inline dd dd_mul(dd x, dd y) {
+    dd c = two_prod(x.hi, y.hi);
+    double t = fma(x.hi, y.lo, x.lo * y.lo);
+    return fast_two_sum(c.hi, c.lo + fma(x.lo, y.hi, t));
+}
+
+static inline dd dd_div(dd x, dd y) {
+    double q1 = x.hi / y.hi;
+    dd r = dd_add(x, dd_neg(dd_mul(y, (dd){q1, 0})));
+    return fast_two_sum(q1, r.hi / y.hi);
+}
+
+static inline dd dd_sqrt(dd x) {
+    double r0 = sqrt(x.hi);
+    if (r0 == 0) return (dd){0, 0};
+    dd e = dd_add(x, dd_neg(two_prod(r0, r0)));
+    return fast_two_sum(r0, e.hi / (2 * r0));
+}
+
+int vor__fortune_circle_top_dd(const double *a, const double *b,
+                               const double *c, double *top_hi, double *top_lo,
+                               double *err) {
+    dd bx = two_sum(b[0], -a[0]), by = two_sum(b[1], -a[1]);
+    dd cx = two_sum(c[0], -a[0]), cy = two_sum(c[1], -a[1]);
+    dd l = dd_mul(bx, cy), r = dd_mul(by, cx);
+    dd d = dd_add(l, dd_neg(r));
+    double ed = 4 * E2 * (fabs(l.hi) + fabs(r.hi));
+    double ad = fabs(d.hi);
+    if (!(ad > 2 * ed)) return 0;
+    dd b2 = dd_add(dd_mul(bx, bx), dd_mul(by, by));
+    dd c2 = dd_add(dd_mul(cx, cx), dd_mul(cy, cy));
+    dd t1 = dd_mul(cy, b2), t2 = dd_mul(by, c2);
+    dd t3 = dd_mul(bx, c2), t4 = dd_mul(cx, b2);
+    dd nx = dd_add(t1, dd_neg(t2)), ny = dd_add(t3, dd_neg(t4));
+    double enx = 8 * E2 * (fabs(t1.hi) + fabs(t2.hi));
+    double eny = 8 * E2 * (fabs(t3.hi) + fabs(t4.hi));
+    dd d2 = {2 * d.hi, 2 * d.lo};
+    dd ux = dd_div(nx, d2), uy = dd_div(ny, d2);
+    double q = ed / ad;
+    double eux =
+        0.5 * enx / ad + (fabs(nx.hi) + enx) / ad * q + 2 * E2 * fabs(ux.hi);
+    double euy =
+        0.5 * eny / ad + (fabs(ny.hi) + eny) / ad * q + 2 * E2 * fabs(uy.hi);
+    dd ux2 = dd_mul(ux, ux);
+    dd rr = dd_sqrt(dd_add(ux2, dd_mul(uy, uy)));
+    dd g;
+    double eg;
+    if (uy.hi >= 0) {
+        g = dd_add(uy, rr);
+        eg = 4 * E2 * g.hi;
+    } else {
+        g = dd_div(ux2, dd_add(rr, dd_neg(uy)));
+        eg = 8 * E2 * g.hi;
+    }
+    dd t = dd_add((dd){a[1], 0}, g);
+    double e = 2 * (eux + 2 * euy + eg + 0x1p-700) +
+               4 * E2 * (fabs(a[1]) + fabs(g.hi) + fabs(t.hi));
+    if (!(e <= DBL_MAX) || !(fabs(t.hi) <= DBL_MAX) || !(fabs(t.lo) <= DBL_MAX))
+        return 0;
+    *top_hi = t.hi;
+    *top_lo = t.lo;
+    *err = e;
+    return 1;
+}
+
+int vor__fortune_dd_cmp(double hi1, double lo1, double err1, double hi2,
+                        double lo2, double err2) {
+    /* delta = top2 - top1 with a relative error of at most 3 u^2 */
+    dd delta = dd_add((dd){hi2, lo2}, (dd){-hi1, -lo1});
+    double m = (err1 + err2) * (1 + 0x1p-40);
+    if (delta.hi > m) return -1;
+    if (-delta.hi > m) return 1;
+    return 0;
+}
+
+/* ---- Exact ties in floating point ---------------------------------------- */
+
+/* 1 if a - b is exactly representable; *d receives it. */
+static inline int exact_diff(double a, double b, double *d) {
+    dd s = two_sum(a, -b);
+    *d = s.hi;
+    return s.lo == 0;
+}
+
+/* 1 if a * b is exactly representable; *p receives it. The residual
+ * a b - p is a multiple of the product of the inputs' last bits, at least
+ * 2^-104 |a b|, so when |p| >= 2^-960 a nonzero residual is not below
+ * 2^-1074 and fma() cannot round it to zero. Smaller products are not
+ * certified (a zero factor is). */
+static inline int exact_mul(double a, double b, double *p) {
+    *p = a * b;
+    if (*p == 0) return a == 0 || b == 0;
+    return fabs(*p) >= 0x1p-960 && fma(a, b, -*p) == 0;
+}
+
+/* 1 if a + b is exactly representable; *s receives it. */
+static inline int exact_add(double a, double b, double *s) {
+    dd t = two_sum(a, b);
+    *s = t.hi;
+    return t.lo == 0;
+}
+
+int vor__fortune_circle_exact_double(const double *a, const double *b,
+                                     const double *c, double *out) {
+    double bx, by, cx, cy, p, q, d, b2, c2, nx, ny, ux, uy, x, y, r2, s, t;
+    if (!exact_diff(b[0], a[0], &bx) || !exact_diff(b[1], a[1], &by) ||
+        !exact_diff(c[0], a[0], &cx) || !exact_diff(c[1], a[1], &cy))
+        return 0;
+    if (!exact_mul(bx, cy, &p) || !exact_mul(by, cx, &q) ||
+        !exact_diff(p, q, &d))
+        return 0;
+    if (!exact_mul(bx, bx, &p) || !exact_mul(by, by, &q) ||
+        !exact_add(p, q, &b2))
+        return 0;
+    if (!exact_mul(cx, cx, &p) || !exact_mul(cy, cy, &q) ||
+        !exact_add(p, q, &c2))
+        return 0;
+    if (!exact_mul(cy, b2, &p) || !exact_mul(by, c2, &q) ||
+        !exact_diff(p, q, &nx))
+        return 0;
+    if (!exact_mul(bx, c2, &p) || !exact_mul(cx, b2, &q) ||
+        !exact_diff(p, q, &ny))
+        return 0;
+    if (!exact_mul(2, d, &t) || t == 0) return 0;
+    ux = nx / t;
+    uy = ny / t;
+    if (!exact_mul(ux, t, &s) || s != nx || !exact_mul(uy, t, &s) || s != ny)
+        return 0;
+    if (!exact_add(a[0], ux, &x) || !exact_add(a[1], uy, &y)) return 0;
+    if (!exact_mul(ux, ux, &p) || !exact_mul(uy, uy, &q) ||
+        !exact_add(p, q, &r2))
+        return 0;
+    out[0] = x;
+    out[1] = y;
+    out[2] = r2;
+    return 1;
+}
+
+int vor__fortune_translated(const double *a1, const double *b1,
+                            const double *c1, const double *a2,
+                            const double *b2, const double *c2) {
+    double u[4], v[4];
+    if (a1[1] != a2[1]) return 0;
+    if (!exact_diff(b1[0], a1[0], &u[0]) || !exact_diff(b1[1], a1[1], &u[1]) ||
+        !exact_diff(c1[0], a1[0], &u[2]) || !exact_diff(c1[1], a1[1], &u[3]) ||
+        !exact_diff(b2[0], a2[0], &v[0]) || !exact_diff(b2[1], a2[1], &v[1]) ||
+        !exact_diff(c2[0], a2[0], &v[2]) || !exact_diff(c2[1], a2[1], &v[3]))
+        return 0;
+    return u[0] == v[0] && u[1] == v[1] && u[2] == v[2] && u[3] == v[3];
+}
+
+/* ---- Circles exactly --------------------------------------------------------
+ *
+ * For a circle through A, B, C with integer differences b = B - A,
+ * c = C - A: D = bx cy - by cx (> 0 when orient2d(A, B, C) > 0),
+ * N = (cy |b|^2 - by |c|^2, bx |c|^2 - cx |b|^2), R = Nx^2 + Ny^2. The
+ * centre is A + N / (2D), the radius sqrt(R) / (2D), the top's y
+ * A.y + (Ny + sqrt(R)) / (2D). With k-bit differences, D has 2k + 1 bits,
+ * N 3k + 3, R 6k + 7. */
+typedef struct circle {
+    big d, nx, ny, r;
+} circle;
+
+/* Fills c from the differences; t1, t2, b2, c2 are scratch. */
+static void circle_of(circle *c, const big *bx, const big *by, const big *cx,
+                      const big *cy, big *t1, big *t2, big *b2, big *c2) {
+    big_mul(t1, bx, cy);
+    big_mul(t2, by, cx);
+    big_sub(&c->d, t1, t2);
+    big_mul(t1, bx, bx);
+    big_mul(t2, by, by);
+    big_add(b2, t1, t2);
+    big_mul(t1, cx, cx);
+    big_mul(t2, cy, cy);
+    big_add(c2, t1, t2);
+    big_mul(t1, cy, b2);
+    big_mul(t2, by, c2);
+    big_sub(&c->nx, t1, t2);
+    big_mul(t1, bx, c2);
+    big_mul(t2, cx, b2);
+    big_sub(&c->ny, t1, t2);
+    big_mul(t1, &c->nx, &c->nx);
+    big_mul(t2, &c->ny, &c->ny);
+    big_add(&c->r, t1, t2);
+}
+
+/* Site against circle event. With s = S - A: the site is lower when
+ * w = 2D sy - Ny < sqrt(R): true if w < 0, else decided by w^2 against R;
+ * equal means the same y, and then the site comes first when
+ * 2D sx < Nx. Degree 6: 220 limbs hold every value (2098-bit inputs). */
+int vor__fortune_site_first_exact(const double *s, const double *a,
+                                  const double *b, const double *c) {
+    enum { L = 220 };
+    const double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], s[0], s[1]};
+    mp_limb_t store[6][IN_LIMBS + 1];
+    big dif[6];
+    for (int i = 0; i < 6; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
+    big_diffs(dif, v, 4);
+    const big *sx = &dif[4], *sy = &dif[5];
+    BIG_LOCAL(t1, L);
+    BIG_LOCAL(t2, L);
+    BIG_LOCAL(b2, L);
+    BIG_LOCAL(c2, L);
+    BIG_LOCAL(cd, L);
+    BIG_LOCAL(cnx, L);
+    BIG_LOCAL(cny, L);
+    BIG_LOCAL(cr, L);
+    BIG_LOCAL(twod, L);
+    BIG_LOCAL(w, L);
+    circle ci = {cd, cnx, cny, cr};
+    circle_of(&ci, &dif[0], &dif[1], &dif[2], &dif[3], &t1, &t2, &b2, &c2);
+    assert(big_sign(&ci.d) > 0);
+    if (big_sign(&ci.d) <= 0) return 1; /* collinear: no event (not reached) */
+    big_add(&twod, &ci.d, &ci.d);
+    /* w = 2D sy - Ny */
+    big_mul(&t1, &twod, sy);
+    big_sub(&w, &t1, &ci.ny);
+    if (big_sign(&w) < 0) return 1;
+    big_mul(&t1, &w, &w);
+    int cmp = big_cmp(&t1, &ci.r);
+    if (cmp != 0) return cmp < 0;
+    /* same y: compare x with the centre's */
+    big_mul(&t1, &twod, sx);
+    return big_cmp(&t1, &ci.nx) < 0;
+}
+
+/* Workspace of the circle comparison: degree 20 in the inputs, so up to
+ * 42004 bits (657 limbs) for 2098-bit inputs. */
+#define WS_LIMBS 664
+#define WS_BIGS 18
+
+struct vor__fortune_ws {
+    mp_limb_t limbs[WS_BIGS][WS_LIMBS];
+};
+
+vor__fortune_ws *vor__fortune_ws_new(void) {
+    return malloc(sizeof(vor__fortune_ws));
+}
+
+void vor__fortune_ws_free(vor__fortune_ws *ws) {
+    free(ws);
+}
+
+/* Circle event against circle event. Both tops relative to A1, times
+ * 2 D1 D2 > 0:  T1 -> D2 Ny1 + sqrt(D2^2 R1),
+ *               T2 -> 2 D1 D2 oy + D1 Ny2 + sqrt(D1^2 R2)   (o = A2 - A1),
+ * so sign(T1 - T2) = sign(P + sqrt(Q1) - sqrt(Q2)) with
+ * P = D2 Ny1 - 2 D1 D2 oy - D1 Ny2, Q1 = D2^2 R1, Q2 = D1^2 R2 (both > 0).
+ * If P and sqrt(Q1) - sqrt(Q2) (sign of Q1 - Q2) agree in sign or one is
+ * zero, that is the answer; otherwise compare their magnitudes:
+ * P^2 - (sqrt(Q1) - sqrt(Q2))^2 = e + 2 sqrt(Q1 Q2) with e = P^2 - Q1 - Q2,
+ * positive if e >= 0, else of the sign of 4 Q1 Q2 - e^2. Equal tops: the
+ * x of the centres, D2 Nx1 against 2 D1 D2 ox + D1 Nx2. */
+int vor__fortune_circle_cmp_exact(const double *a1, const double *b1,
+                                  const double *c1, const double *a2,
+                                  const double *b2, const double *c2,
+                                  vor__fortune_ws *ws) {
+    const double v[12] = {a1[0], a1[1], b1[0], b1[1], c1[0], c1[1],
+                          a2[0], a2[1], b2[0], b2[1], c2[0], c2[1]};
+    mp_limb_t store[12][IN_LIMBS];
+    mp_limb_t dstore[10][IN_LIMBS + 1];
+    big in[12], dif[10];
+    for (int i = 0; i < 12; i++) in[i] = (big){0, IN_LIMBS, store[i]};
+    for (int i = 0; i < 10; i++) dif[i] = (big){0, IN_LIMBS + 1, dstore[i]};
+    big_from_doubles(in, v, 12);
+    big_sub(&dif[0], &in[2], &in[0]); /* b1 - a1 */
+    big_sub(&dif[1], &in[3], &in[1]);
+    big_sub(&dif[2], &in[4], &in[0]); /* c1 - a1 */
+    big_sub(&dif[3], &in[5], &in[1]);
+    big_sub(&dif[4], &in[6], &in[0]); /* o = a2 - a1 */
+    big_sub(&dif[5], &in[7], &in[1]);
+    big_sub(&dif[6], &in[8], &in[6]); /* b2 - a2 */
+    big_sub(&dif[7], &in[9], &in[7]);
+    big_sub(&dif[8], &in[10], &in[6]); /* c2 - a2 */
+    big_sub(&dif[9], &in[11], &in[7]);
+
+    big t[WS_BIGS];
+    for (int i = 0; i < WS_BIGS; i++) t[i] = (big){0, WS_LIMBS, ws->limbs[i]};
+    circle e1 = {t[0], t[1], t[2], t[3]}, e2 = {t[4], t[5], t[6], t[7]};
+    big *t1 = &t[8], *t2 = &t[9], *t3 = &t[10], *t4 = &t[11];
+    big *p = &t[12], *q1 = &t[13], *q2 = &t[14], *e = &t[15], *twod = &t[16];
+    circle_of(&e1, &dif[0], &dif[1], &dif[2], &dif[3], t1, t2, t3, t4);
+    circle_of(&e2, &dif[6], &dif[7], &dif[8], &dif[9], t1, t2, t3, t4);
+    assert(big_sign(&e1.d) > 0 && big_sign(&e2.d) > 0);
+
+    /* twod = 2 D1 D2 */
+    big_mul(t1, &e1.d, &e2.d);
+    big_add(twod, t1, t1);
+    /* P = D2 Ny1 - twod oy - D1 Ny2 */
+    big_mul(t1, &e2.d, &e1.ny);
+    big_mul(t2, twod, &dif[5]);
+    big_sub(t3, t1, t2);
+    big_mul(t1, &e1.d, &e2.ny);
+    big_sub(p, t3, t1);
+    /* Q1 = D2^2 R1, Q2 = D1^2 R2 */
+    big_mul(t1, &e2.d, &e2.d);
+    big_mul(q1, t1, &e1.r);
+    big_mul(t1, &e1.d, &e1.d);
+    big_mul(q2, t1, &e2.r);
+
+    int sp = big_sign(p), sq = big_cmp(q1, q2), res;
+    if (sp == 0 || sq == 0 || sp == sq) {
+        res = sp != 0 ? sp : sq;
+    } else {
+        big_mul(t1, p, p);
+        big_sub(t2, t1, q1);
+        big_sub(e, t2, q2);
+        int m;
+        if (big_sign(e) >= 0) {
+            m = 1;
+        } else {
+            big_mul(t1, q1, q2);
+            big_add(t2, t1, t1);
+            big_add(t3, t2, t2); /* 4 Q1 Q2 */
+            big_mul(t4, e, e);
+            m = big_cmp(t3, t4);
+        }
+        res = m > 0 ? sp : m < 0 ? sq : 0;
+    }
+    if (res != 0) return res;
+    /* same y: x of the centres */
+    big_mul(t1, &e2.d, &e1.nx);
+    big_mul(t2, twod, &dif[4]);
+    big_sub(t3, t1, t2);
+    big_mul(t1, &e1.d, &e2.nx);
+    return big_cmp(t3, t1);
+}

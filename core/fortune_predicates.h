@@ -1,0 +1,158 @@
+/* fortune_predicates.h -- the exact decisions of Fortune's sweep, beyond
+ * orient2d and incircle.
+ *
+ * The sweep line moves towards +y; sites are processed in (y, x) order. Two
+ * questions need more than vor_orient2d / vor_incircle:
+ *
+ *   1. Where does a new site p hit the beach line? The breakpoint between
+ *      the arcs of sites a (left) and b (right) lies where the circles
+ *      through a and through b that touch the sweep line at p are equal.
+ *      The circle through a touching the line y = py at p has radius
+ *      |p-a|^2 / (2 (py - ay)), so p is left of the breakpoint when
+ *          F = |p-a|^2 (py - by) - |p-b|^2 (py - ay) < 0,
+ *      with two exceptions: the arcs of a and b meet twice, and F changes
+ *      sign at both meeting points. The breakpoint (a, b) is the left one
+ *      when b is the higher (newer) site and the right one otherwise; the
+ *      newer site's x lies strictly between the two, which tells on which
+ *      side of the pair p is before F is consulted. See
+ *      vor__fortune_bp_side().
+ *
+ *   2. When does a circle event happen? At the top of its circle: y = cy + r,
+ *      a square root of a rational function of the sites. The sweep keeps a
+ *      floating-point interval [lo, hi] proven to contain it
+ *      (vor__fortune_circle_top()) and decides exactly, when intervals
+ *      cannot, the order of a site and an event
+ *      (vor__fortune_site_first_exact(), one square root) and of two events
+ *      (vor__fortune_circle_cmp_exact(), a sum of two square roots).
+ *
+ * Filters and their bounds. eps = 2^-53. Differences of inputs are rounded
+ * (relative error eps), sums and products too; no operation may underflow or
+ * overflow, which the callers guarantee by a range condition ("safe": every
+ * nonzero difference in [2^-302, 4], true after fortune.c has rescaled the
+ * input by a power of two so that every coordinate is 0 or in
+ * [2^-250, 2)); otherwise the out-of-line versions rescale per call and, if
+ * even that cannot help, fall back to exact integer arithmetic.
+ *
+ *   F: each of t1 = (ux^2 + uy^2) vy and t2 = (vx^2 + vy^2) uy (ux = px - ax,
+ *   ...) carries 6 roundings (a difference and a square: 3, the sum: 1, a
+ *   difference and the product: 2), so |t1 - t2 - F| <= gamma_6 (|t1| + |t2|)
+ *   to first order, and the final subtraction does not change the sign. The
+ *   bound 8 eps (|t1| + |t2|) covers gamma_6 = 6 eps + O(eps^2) with the
+ *   roundings of the bound itself.
+ *
+ *   circle top: derived in fortune_predicates.c next to the code.
+ *
+ * Cost: the F filter is 12 flops; the circle top about 40 flops, a square
+ * root and two divisions; exact fallbacks a few microseconds.
+ */
+#ifndef VOR_FORTUNE_PREDICATES_H
+#define VOR_FORTUNE_PREDICATES_H
+
+#include <float.h>
+#include <math.h>
+
+#include "internal.h"
+
+/* 8 eps: the bound factor of the F filter (see above). */
+#define VOR__BP_BOUND 0x1p-50
+
+/* Sign of F exactly, for any finite input (rescaled filter, then integers).
+ * Never fails. */
+int vor__fortune_bp_poly_slow(const double *a, const double *b,
+                              const double *p);
+
+/* Sign of F (see above), exact. safe: the caller guarantees the range
+ * condition, which lets the inline filter decide. */
+static inline int vor__fortune_bp_poly(const double *a, const double *b,
+                                       const double *p, int safe) {
+    if (safe) {
+        double ux = p[0] - a[0], uy = p[1] - a[1];
+        double vx = p[0] - b[0], vy = p[1] - b[1];
+        double t1 = (ux * ux + uy * uy) * vy;
+        double t2 = (vx * vx + vy * vy) * uy;
+        double f = t1 - t2, bound = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
+        if (f > bound) return 1;
+        if (-f > bound) return -1;
+    }
+    return vor__fortune_bp_poly_slow(a, b, p);
+}
+
+/* Side of p relative to the breakpoint between adjacent arcs of sites a
+ * (left) and b (right) when the sweep line is at y = p.y: -1 left, 0 exactly
+ * below it (p, a and b then lie on a circle touching the sweep line at p),
+ * +1 right. Requires a.y <= p.y, b.y <= p.y, (a.y, a.x) < (p.y, p.x) and the
+ * same for b (both processed before p), a != b, and not both a.y and b.y
+ * equal to p.y. Exact. */
+static inline int vor__fortune_bp_side(const double *a, const double *b,
+                                       const double *p, int safe) {
+    if (a[1] < b[1]) {
+        /* b is the narrower arc; (a, b) is its left end, b.x inside it */
+        if (p[0] >= b[0]) return 1;
+    } else if (a[1] > b[1]) {
+        /* a is the narrower arc; (a, b) is its right end, a.x inside it */
+        if (p[0] <= a[0]) return -1;
+    }
+    /* equal y: the breakpoint is the vertical bisector, F decides alone */
+    return vor__fortune_bp_poly(a, b, p, safe);
+}
+
+/* Interval [*lo, *hi] that provably contains the y of the top of the circle
+ * through a, b, c (orient2d(a, b, c) > 0 required). When no useful bound
+ * can be proven (nearly collinear sites, results outside the double range)
+ * the interval is [-inf, +inf]. safe: as above, lets the filter skip its
+ * per-call rescaling. Never fails. */
+void vor__fortune_circle_top(const double *a, const double *b, const double *c,
+                             int safe, double *lo, double *hi);
+
+/* 1 if site s comes strictly before the circle event of a, b, c
+ * (orient2d(a, b, c) > 0) in sweep order, 0 if the event comes first.
+ * Sweep order: by y, then by x; the event's position is the top of its
+ * circle; at the same position the circle event comes first. Exact for all
+ * finite input; never fails. */
+int vor__fortune_site_first_exact(const double *s, const double *a,
+                                  const double *b, const double *c);
+
+/* Second filter, in double-double arithmetic: on success (1), the y of the
+ * top of the circle through a, b, c (orient2d > 0) lies within *err of
+ * *top_hi + *top_lo. 0 when no bound can be proven (the caller then goes
+ * to the exact comparison). Requires the safe range (see above). */
+int vor__fortune_circle_top_dd(const double *a, const double *b,
+                               const double *c, double *top_hi, double *top_lo,
+                               double *err);
+
+/* Compares two tops given by vor__fortune_circle_top_dd: -1 if the first is
+ * provably lower, +1 if provably higher, 0 if the bounds cannot tell. */
+int vor__fortune_dd_cmp(double hi1, double lo1, double err1, double hi2,
+                        double lo2, double err2);
+
+/* Exact ties cheaply. 1 if the centre and squared radius of the circle
+ * through a, b, c (orient2d > 0) are exactly representable and were
+ * computed exactly: out = {x, y, r^2}. Two such circles have equal tops iff
+ * equal y and r^2. 0 otherwise (nothing is known then). */
+int vor__fortune_circle_exact_double(const double *a, const double *b,
+                                     const double *c, double *out);
+
+/* 1 if the triangle a2, b2, c2 is exactly a horizontal translate of a1, b1,
+ * c1 (equal exactly computed differences, a1.y == a2.y): their circles'
+ * tops are then at the same y, and the centres' x differ by a2.x - a1.x. */
+int vor__fortune_translated(const double *a1, const double *b1,
+                            const double *c1, const double *a2,
+                            const double *b2, const double *c2);
+
+/* Scratch memory for vor__fortune_circle_cmp_exact (about 100 KiB), so that
+ * the comparison cannot fail; NULL if out of memory. Free with
+ * vor__fortune_ws_free (NULL is a no-op). */
+typedef struct vor__fortune_ws vor__fortune_ws;
+vor__fortune_ws *vor__fortune_ws_new(void);
+void vor__fortune_ws_free(vor__fortune_ws *ws);
+
+/* Sweep order of two circle events, of a1, b1, c1 and of a2, b2, c2 (each
+ * with orient2d > 0): -1 if the first comes first, +1 if the second does,
+ * 0 if both are at the same point. By the y of the circles' tops, then by
+ * the x of their centres. Exact for all finite input; never fails. */
+int vor__fortune_circle_cmp_exact(const double *a1, const double *b1,
+                                  const double *c1, const double *a2,
+                                  const double *b2, const double *c2,
+                                  vor__fortune_ws *ws);
+
+#endif /* VOR_FORTUNE_PREDICATES_H */
