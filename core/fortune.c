@@ -157,37 +157,51 @@ static inline const double *site_xy(const sweep *w, uint32_t s) {
 
 /* ---- Sorting the sites --------------------------------------------------- */
 
+/* A site in the sort: y as an order-preserving key, x, its index. */
 typedef struct keyed {
     uint64_t k;
+    double x;
     uint32_t i;
 } keyed;
 
-/* Order-preserving map of a double (not nan, no -0.0) to an unsigned key. */
+/* Order-preserving map of a double (not nan, no -0.0) to an unsigned key,
+ * and back. */
 static inline uint64_t dkey(double d) {
     uint64_t u;
     memcpy(&u, &d, sizeof u);
     return (u >> 63) ? ~u : (u | 0x8000000000000000ull);
 }
 
+static inline double kdouble(uint64_t k) {
+    uint64_t u = (k >> 63) ? (k & ~0x8000000000000000ull) : ~k;
+    double d;
+    memcpy(&d, &u, sizeof d);
+    return d;
+}
+
+/* By (y, x). */
 static int cmp_keyed(const void *p, const void *q) {
-    uint64_t a = ((const keyed *)p)->k, b = ((const keyed *)q)->k;
-    return (a > b) - (a < b);
+    const keyed *a = p, *b = q;
+    if (a->k != b->k) return a->k < b->k ? -1 : 1;
+    return (a->x > b->x) - (a->x < b->x);
 }
 
 #define RADIX_BITS 11
 #define RADIX_SIZE (1u << RADIX_BITS)
-#define RADIX_PASSES 6
+#define RADIX_PASSES 3 /* the top 33 bits of the key; runs fixed after */
 
-/* Stable LSD radix sort of a[0..n-1] by k; tmp is scratch of the same size.
- * Returns the array holding the result (a or tmp), NULL if out of memory.
- * Passes whose digit is the same for all keys are skipped. */
+/* Stable LSD radix sort of a[0..n-1] by the top 3 * RADIX_BITS bits of k;
+ * tmp is scratch of the same size. Returns the array holding the result (a
+ * or tmp), NULL if out of memory. Passes whose digit is the same for all
+ * keys are skipped. */
 static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
+    const int base = 64 - RADIX_PASSES * RADIX_BITS;
     uint32_t *cnt = calloc((size_t)RADIX_PASSES * RADIX_SIZE, sizeof *cnt);
     if (!cnt) return NULL;
     for (size_t j = 0; j < n; j++)
         for (int d = 0; d < RADIX_PASSES; d++)
             cnt[d * RADIX_SIZE +
-                ((a[j].k >> (d * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
+                ((a[j].k >> (base + d * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
     keyed *src = a, *dst = tmp;
     for (int d = 0; d < RADIX_PASSES; d++) {
         uint32_t *c = cnt + d * RADIX_SIZE;
@@ -201,8 +215,8 @@ static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
         }
         if (trivial) continue;
         for (size_t j = 0; j < n; j++) {
-            uint32_t b =
-                (uint32_t)(src[j].k >> (d * RADIX_BITS)) & (RADIX_SIZE - 1);
+            uint32_t b = (uint32_t)(src[j].k >> (base + d * RADIX_BITS)) &
+                         (RADIX_SIZE - 1);
             dst[c[b]++] = src[j];
         }
         keyed *t = src;
@@ -214,7 +228,9 @@ static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
 }
 
 /* Fills w->xy and w->orig: the sites sorted by (y, x), multiplied by
- * `scale` (a power of two for which that is exact). */
+ * `scale` (a power of two for which that is exact). A radix sort on the
+ * top bits of y, then runs of equal top bits (and of equal y) sorted by
+ * (y, x): insertion sort for short runs, qsort for long ones. */
 static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     size_t n = s->n;
     keyed *a = malloc(n * sizeof *a), *tmp = malloc(n * sizeof *tmp);
@@ -224,26 +240,34 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     if (!a || !tmp || !w->xy || !w->orig) goto done;
     for (size_t j = 0; j < n; j++) {
         a[j].k = dkey(s->xy[2 * j + 1]);
+        a[j].x = s->xy[2 * j];
         a[j].i = (uint32_t)j;
     }
     keyed *r = radix_sort(a, tmp, n);
     if (!r) goto done;
-    /* runs of equal y: by x */
+    const int shift = 64 - RADIX_PASSES * RADIX_BITS;
     for (size_t j = 0; j < n;) {
         size_t k = j + 1;
-        while (k < n && r[k].k == r[j].k) k++;
-        if (k - j > 1) {
-            for (size_t t = j; t < k; t++)
-                r[t].k = dkey(s->xy[2 * (size_t)r[t].i]);
+        while (k < n && (r[k].k >> shift) == (r[j].k >> shift)) k++;
+        if (k - j > 16) {
             qsort(r + j, k - j, sizeof *r, cmp_keyed);
+        } else {
+            for (size_t t = j + 1; t < k; t++) {
+                keyed v = r[t];
+                size_t u = t;
+                while (u > j && cmp_keyed(&v, &r[u - 1]) < 0) {
+                    r[u] = r[u - 1];
+                    u--;
+                }
+                r[u] = v;
+            }
         }
         j = k;
     }
     for (size_t j = 0; j < n; j++) {
-        uint32_t i = r[j].i;
-        w->xy[2 * j] = s->xy[2 * (size_t)i] * scale;
-        w->xy[2 * j + 1] = s->xy[2 * (size_t)i + 1] * scale;
-        w->orig[j] = i;
+        w->xy[2 * j] = r[j].x * scale;
+        w->xy[2 * j + 1] = kdouble(r[j].k) * scale;
+        w->orig[j] = r[j].i;
     }
     st = VOR_OK;
 done:
@@ -779,7 +803,9 @@ static vor_status add_event(sweep *w, uint32_t b) {
     const arc *z = &w->arcs[x->next];
     uint32_t sa = ARC(x->prev).site, sc = z->site;
     if (sa == sc) return VOR_OK;
-    if (vor__orient2d_fast(x->lxy, x->xy, z->xy) <= 0) return VOR_OK;
+    double lo, hi;
+    if (vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, &lo, &hi) <= 0)
+        return VOR_OK;
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     evrec *rec = &w->recs[r];
@@ -789,9 +815,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     rec->s[2] = sc;
     double *cache = w->cache + 6 * (size_t)r; /* nothing known about ties yet */
     cache[2] = cache[5] = NAN;
-    event e;
-    vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, &e.lo, &e.hi);
-    e.rec = r;
+    event e = {lo, hi, r};
     w->n_heap++;
     sift_up(w, w->n_heap - 1, e);
     ARC(b).ev = r;

@@ -326,25 +326,28 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  * test passes) and the result scaled back, with an absolute 2^-1060 for a
  * possible underflow there. Overflow makes a value inf or nan, which the
  * final test turns into "no bound". */
-void vor__fortune_circle_top(const double *a, const double *b, const double *c,
-                             int safe, double *lo, double *hi) {
+int vor__fortune_circle_top(const double *a, const double *b, const double *c,
+                            int safe, double *lo, double *hi) {
     double bx = b[0] - a[0], by = b[1] - a[1];
     double cx = c[0] - a[0], cy = c[1] - a[1];
     int e = 0;
     if (!safe) {
         double m = max4(bx, by, cx, cy);
-        if (!(m > 0 && m <= DBL_MAX)) goto unknown;
+        if (!(m > 0 && m <= DBL_MAX)) goto undecided;
         (void)frexp(m, &e);
         bx = ldexp(bx, -e);
         by = ldexp(by, -e);
         cx = ldexp(cx, -e);
         cy = ldexp(cy, -e);
-        if (!min4_ok(bx, by, cx, cy)) goto unknown;
+        if (!min4_ok(bx, by, cx, cy)) goto undecided;
     }
     double l = bx * cy, r = by * cx, d = l - r;
     double ed = 0x1p-51 * (fabs(l) + fabs(r));
     double ad = fabs(d);
-    if (!(ad > 2 * ed)) goto unknown;
+    /* d is orient2d(a, b, c) with an error below ed (Shewchuk's bound is
+     * (3 + 16 eps) eps (|l| + |r|)): its sign is proven when |d| > 2 ed */
+    if (!(ad > 2 * ed)) goto undecided;
+    if (d < 0) return -1;
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
     double t1 = cy * b2, t2 = by * c2, t3 = bx * c2, t4 = cx * b2;
     double nx = t1 - t2, ny = t3 - t4;
@@ -374,10 +377,15 @@ void vor__fortune_circle_top(const double *a, const double *b, const double *c,
     if (!(err <= DBL_MAX) || !(fabs(t) <= DBL_MAX)) goto unknown;
     *lo = t - err;
     *hi = t + err;
-    return;
+    return 1;
+undecided: {
+    int o = vor_orient2d(a, b, c);
+    if (o <= 0) return o;
+}
 unknown:
     *lo = -INFINITY;
     *hi = INFINITY;
+    return 1;
 }
 
 /* ---- Double-double evaluation of the top ------------------------------------

@@ -96,13 +96,16 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
     return vor__fortune_bp_poly(a, b, p, safe);
 }
 
-/* Interval [*lo, *hi] that provably contains the y of the top of the circle
- * through a, b, c (orient2d(a, b, c) > 0 required). When no useful bound
- * can be proven (nearly collinear sites, results outside the double range)
- * the interval is [-inf, +inf]. safe: as above, lets the filter skip its
- * per-call rescaling. Never fails. */
-void vor__fortune_circle_top(const double *a, const double *b, const double *c,
-                             int safe, double *lo, double *hi);
+/* The circle event of arcs of sites a, b, c (left to right): returns
+ * orient2d(a, b, c), exactly (the event exists iff it is +1), and when it is
+ * +1 an interval [*lo, *hi] that provably contains the y of the top of the
+ * circle through a, b, c. When no useful bound can be proven (nearly
+ * collinear sites, results outside the double range) the interval is
+ * [-inf, +inf]. The orientation comes from the same determinant as the
+ * circle, so the common case costs one evaluation. safe: as above, lets the
+ * filter skip its per-call rescaling. Never fails. */
+int vor__fortune_circle_top(const double *a, const double *b, const double *c,
+                            int safe, double *lo, double *hi);
 
 /* 1 if site s comes strictly before the circle event of a, b, c
  * (orient2d(a, b, c) > 0) in sweep order, 0 if the event comes first.

@@ -307,7 +307,12 @@ static void test_circle_top_bounds(void **state) {
                           in_safe_range(t[2])))
                 continue;
             double lo, hi;
-            vor__fortune_circle_top(t[0], t[1], t[2], safe, &lo, &hi);
+            double m[3][2] = {{t[0][0], t[0][1]}, {t[2][0], t[2][1]},
+                              {t[1][0], t[1][1]}};
+            assert_int_equal(
+                vor__fortune_circle_top(m[0], m[1], m[2], safe, &lo, &hi), -1);
+            assert_int_equal(
+                vor__fortune_circle_top(t[0], t[1], t[2], safe, &lo, &hi), 1);
             assert_true(lo <= hi);
             if (isfinite(lo)) {
                 finite++;
