@@ -12,7 +12,7 @@
  *
  * Representation.
  *   - Sites: a private copy of the coordinates sorted by (y, x) (radix sort
- *     on the bits of y, runs of equal y sorted by x), rescaled by a power of
+ *     on the top bits of y, then the runs they leave), rescaled by a power of
  *     two when that is exact so that the filters of fortune_predicates.h
  *     apply without range tests; orig[] maps back to site indices.
  *   - Beach line: arcs in a flat pool (index 0 is the nil sentinel, freed
@@ -54,16 +54,21 @@
  *     compared exactly (the edge's sites and the ends' third sites
  *     cocircular) and, if equal, the vertices are united and the edge
  *     dropped. So the centre of 4+ cocircular sites is one vertex, and no
- *     edge has zero length;
+ *     edge has zero length. The comparison is skipped when the two ends were
+ *     made by events whose keys are proven different (event groups, see
+ *     struct sweep), which is almost always;
  *   - the first sites of equal lowest y start the beach line as a row of
  *     arcs separated by vertical bisectors, unbounded below.
  *
  * Cost: O(n log n) time: sorting O(n), each site one search of the tree
- * (O(log n) breakpoint predicates), each event O(log n) heap and tree work.
- * Memory: the sorted copy (20 bytes per site), raw edges (at most 3n, 20
- * bytes each), union-find (at most 2n, 4 bytes each), the beach line and
- * heap (O(sqrt n) arcs for typical input, at most 2n). Only the edges
- * survive, converted in place, into vor__diagram_build().
+ * (O(log n) breakpoint predicates), each event O(log n) heap and tree work;
+ * about 0.9 us per uniform site at 10^6 sites, of which the heap takes a
+ * third, the circle-top filter a seventh. Exact arithmetic runs only near
+ * degeneracies. Memory: the sorted copy (20 bytes per site; the sort needs
+ * 48 more while it runs), raw edges (at most 3n, 24 bytes each),
+ * union-find (at most 2n, 4 bytes each), the beach line and heap (O(sqrt n)
+ * arcs for typical input, at most 2n). Only the edges survive, converted in
+ * place, into vor__diagram_build().
  */
 #include <assert.h>
 #include <float.h>
