@@ -50,6 +50,9 @@ static const opt_def opts[] = {
      "compute threads (default: number of CPUs)"},
     {"queue", "VORONOID_QUEUE", OPT_INT, 1, 100000, OFF(queue), "N",
      "requests waiting for a worker before 503 (default 64)"},
+    {"inline-points", "VORONOID_INLINE_POINTS", OPT_COUNT, 0, 100000,
+     OFF(inline_points), "N", "requests of at most N points are computed on "
+     "the connection's thread, without the queue; 0 = never (default 128)"},
     {"max-body", "VORONOID_MAX_BODY", OPT_SIZE, 1024, 4.0 * 1024 * 1024 * 1024,
      OFF(max_body), "BYTES", "largest request body, K/M/G suffix allowed "
      "(default 64M)"},
@@ -83,6 +86,7 @@ void srv_config_defaults(srv_config *out, int cpus) {
     out->http_threads = cpus;
     out->workers = cpus;
     out->queue = 64;
+    out->inline_points = 128;
     out->max_body = (size_t)64 << 20;
     out->max_points = 1000000;
     out->timeout = 60;
@@ -289,10 +293,11 @@ void srv_config_usage(FILE *f) {
 void srv_config_print(const srv_config *c, FILE *f) {
     fprintf(f,
             "voronoid: config bind=%s port=%d http-threads=%d workers=%d "
-            "queue=%d max-body=%zu max-points=%zu timeout=%gs grace=%gs "
-            "connection-timeout=%us max-connections=%u web-dir=%s\n",
+            "queue=%d inline-points=%zu max-body=%zu max-points=%zu "
+            "timeout=%gs grace=%gs connection-timeout=%us "
+            "max-connections=%u web-dir=%s\n",
             c->bind, c->port, c->http_threads, c->workers, c->queue,
-            c->max_body, c->max_points, c->timeout, c->grace,
+            c->inline_points, c->max_body, c->max_points, c->timeout, c->grace,
             c->connection_timeout, c->max_connections,
             c->web_dir[0] ? c->web_dir : "(built in)");
 }

@@ -18,6 +18,8 @@ typedef struct srv_config {
     int http_threads;           /* libmicrohttpd's polling threads */
     int workers;                /* compute threads */
     int queue;                  /* jobs waiting for a worker, at most */
+    size_t inline_points;       /* computations of at most this many points
+                                   run on the connection's thread; 0 = none */
     size_t max_body;            /* bytes */
     size_t max_points;          /* input or generated points */
     double timeout;             /* seconds from a full request to its answer */

@@ -16,8 +16,10 @@
  *      of an oversized body is read and dropped, then 413, unless it goes
  *      on past 4 x --max-body: then the connection is closed).
  *   last call (no more data): static routes answer at once. POST /voronoi
- *      and /compare become a compute_job: the connection is suspended and the
- *      job queued in the srv_pool. Queue full -> 503 + Retry-After.
+ *      and /compare of at most --inline-points points (and a small body)
+ *      are computed and answered at once too, on this thread (run_inline).
+ *      Larger ones become a compute_job: the connection is suspended and
+ *      the job queued in the srv_pool. Queue full -> 503 + Retry-After.
  *   after resume: the job's reply (diagram, problem, 504 or 503) is queued.
  *
  * A compute_job is shared by the connection and the pool (reference count
@@ -32,10 +34,12 @@
  * our handler ends in on_completed: one access-log line and the metrics.
  *
  * Cost: the connection threads copy the body once (O(body)) and otherwise
- * only write small documents (problems, metrics, health) or hand out the
- * pre-compressed embedded files; parsing, computing, serializing and gzip
- * of results happen on the workers. Memory per request: the body, then the
- * codec's result and the answer (the body is freed once parsed).
+ * only write small documents (problems, metrics, health), hand out the
+ * pre-compressed embedded files, and compute tiny requests (bounded by
+ * --inline-points and SRV_INLINE_MAX_BODY: well under a millisecond);
+ * parsing, computing, serializing and gzip of everything larger happen on
+ * the workers. Memory per request: the body, then the codec's result and
+ * the answer (the body is freed once parsed).
  */
 #include "server.h"
 
@@ -64,6 +68,9 @@
 
 #define MAX_OPTIONS 16      /* query parameters per request */
 #define RETRY_AFTER_S 1     /* Retry-After on 503 */
+/* Bodies up to this size may be computed inline (see run_inline): it
+ * bounds what reading one costs the connection's thread, ~20 us. */
+#define SRV_INLINE_MAX_BODY 16384
 
 struct srv_server {
     srv_config cfg;
@@ -75,6 +82,7 @@ struct srv_server {
     int port;
     int log_fd;
     atomic_int draining;
+    atomic_int closing;   /* srv_server_free began: no new computations */
     atomic_long in_flight;
     atomic_ullong next_id;
     uint64_t id_seed;
@@ -250,63 +258,77 @@ static double ms_since(int64_t t0_ns) {
     return (double)(srv_now_ns() - t0_ns) / 1e6;
 }
 
-/* The worker's part: parse, compute, serialize, compress. Writes j->out. */
-static void job_run(srv_job *base) {
-    compute_job *j = (compute_job *)base;
-    srv_server *s = j->srv;
-    reply *out = &j->out;
-    double queue_ms = (double)(base->started_ns - base->queued_ns) / 1e6;
-    api_request r;
-    api_problem p;
-    api_limits lim = {s->cfg.max_points};
-    api_code c = API_OK;
-    api_buf b;
+/* What a computation reads: the request as received, borrowed. */
+typedef struct job_input {
+    int compare;
+    api_input kind;
+    const char *body;
+    size_t len;
+    const char *accept;            /* NULL when absent */
+    size_t n_opts;
+    const char *const *opt_key, *const *opt_val;
+} job_input;
 
+static int job_stopped(srv_job *base) {
+    return base != NULL && srv_job_abandoned(base);
+}
+
+/* Stage 1: Accept, then the body, then the query options into r, so that
+ * query parameters > JSON body > Accept > defaults. More than max_points
+ * points give API_TOO_LARGE before they are read or generated. */
+static api_code read_input(api_request *r, const job_input *in,
+                           size_t max_points, api_problem *p) {
+    api_limits lim = {max_points};
+    api_code c = API_OK;
+    if (in->accept != NULL) c = api_format_from_accept(r, in->accept, p);
+    if (c == API_OK)
+        c = api_parse_body(r, in->kind, in->body ? in->body : "", in->len,
+                           &lim, p);
+    for (size_t i = 0; c == API_OK && i < in->n_opts; i++)
+        c = api_request_option(r, in->opt_key[i], in->opt_val[i], p);
+    return c;
+}
+
+/* The answer to a request that could not be read. */
+static void input_problem(reply *out, const api_problem *p,
+                          const char *instance, double queue_ms,
+                          double parse_ms) {
+    problem_reply(out, p, instance);
+    snprintf(out->timing, sizeof out->timing,
+             "queue;dur=%.3f, parse;dur=%.3f", queue_ms, parse_ms);
+}
+
+/* Stage 2: computes the diagram (or the comparison) of a parsed request
+ * and writes the answer into out: 200 with the document and its
+ * Server-Timing, or a problem. base is the pool's job, polled so that work
+ * nobody will read stops early; NULL when the request runs inline. */
+static void compute_answer(srv_server *s, const api_request *r, int compare,
+                           double queue_ms, double parse_ms, srv_job *base,
+                           const char *instance, reply *out) {
+    api_problem p;
+    api_buf b;
+    api_code c = API_OK;
     memset(&p, 0, sizeof p);
     api_buf_init(&b);
-    api_request_init(&r);
-    out->points = -1;
-    out->algorithm = NULL;
+    out->points = (long long)r->n;
+    out->algorithm = compare ? "all" : vor_algorithm_name(r->algorithm);
 
-    /* Precedence: query parameters > JSON body > Accept > defaults. */
-    int64_t t_parse = srv_now_ns();
-    if (j->accept != NULL) c = api_format_from_accept(&r, j->accept, &p);
-    if (c == API_OK)
-        c = api_parse_body(&r, j->kind, j->body ? j->body : "", j->len, &lim,
-                           &p);
-    free(j->body);
-    j->body = NULL;
-    for (size_t i = 0; c == API_OK && i < j->n_opts; i++)
-        c = api_request_option(&r, j->opt_key[i], j->opt_val[i], &p);
-    double parse_ms = ms_since(t_parse);
-    if (c == API_OK) {
-        out->points = (long long)r.n;
-        out->algorithm = j->compare ? "all" : vor_algorithm_name(r.algorithm);
-    }
-    if (c != API_OK) {
-        problem_reply(out, &p, j->instance);
-        snprintf(out->timing, sizeof out->timing,
-                 "queue;dur=%.3f, parse;dur=%.3f", queue_ms, parse_ms);
-        goto done;
-    }
-    if (srv_job_abandoned(base)) goto done; /* nobody will read it */
-
-    if (!j->compare) {
+    if (!compare) {
         api_result res;
         api_result_init(&res);
-        c = api_compute(&r, &res, &p);
+        c = api_compute(r, &res, &p);
         if (c == API_OK) {
-            srv_metrics_compute(s->metrics, r.algorithm, r.n,
+            srv_metrics_compute(s->metrics, r->algorithm, r->n,
                                 res.t.compute_ms / 1e3);
-            if (!srv_job_abandoned(base)) {
+            if (!job_stopped(base)) {
                 api_timings t = res.t;
                 t.queue_ms = queue_ms;
                 t.parse_ms = parse_ms;
                 t.total_ms += queue_ms + parse_ms;
-                c = api_write_result(&r, &res, &t, &b, &p);
+                c = api_write_result(r, &res, &t, &b, &p);
                 if (c == API_OK) {
                     out->status = 200;
-                    out->ctype = api_format_mime(r.format);
+                    out->ctype = api_format_mime(r->format);
                     out->body = api_buf_take(&b, &out->len);
                     snprintf(out->timing, sizeof out->timing,
                              "queue;dur=%.3f, parse;dur=%.3f, "
@@ -328,14 +350,14 @@ static void job_run(srv_job *base) {
             api_compare_init(cmp);
             cmp->t.queue_ms = queue_ms;
             cmp->t.parse_ms = parse_ms;
-            c = api_compare_run(&r, cmp, &p);
+            c = api_compare_run(r, cmp, &p);
             if (c == API_OK) {
                 char per[200] = "";
                 size_t k = 0;
                 for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
                     const api_timings *t = &cmp->res[a].t;
                     if (cmp->status[a] == VOR_OK)
-                        srv_metrics_compute(s->metrics, (vor_algorithm)a, r.n,
+                        srv_metrics_compute(s->metrics, (vor_algorithm)a, r->n,
                                             t->compute_ms / 1e3);
                     int w = snprintf(per + k, sizeof per - k,
                                      ", %s;dur=%.3f",
@@ -343,9 +365,9 @@ static void job_run(srv_job *base) {
                                      t->total_ms);
                     if (w > 0 && (size_t)w < sizeof per - k) k += (size_t)w;
                 }
-                if (!srv_job_abandoned(base)) {
+                if (!job_stopped(base)) {
                     int64_t t_ser = srv_now_ns();
-                    c = api_write_compare(&r, cmp, &b, &p);
+                    c = api_write_compare(r, cmp, &b, &p);
                     double ser_ms = ms_since(t_ser);
                     if (c == API_OK) {
                         out->status = 200;
@@ -363,10 +385,53 @@ static void job_run(srv_job *base) {
             free(cmp);
         }
     }
-    if (c != API_OK) problem_reply(out, &p, j->instance);
-
-done:
+    if (c != API_OK) problem_reply(out, &p, instance);
     api_buf_clear(&b);
+}
+
+/* The 504 for a request whose deadline passed; started: it was being
+ * computed (else it was still waiting in the queue). */
+static void timeout_reply(reply *r, const srv_server *s, const char *instance,
+                          int started) {
+    problemf(r, instance, API_TIMEOUT,
+             "the deadline of %g s passed before the answer was ready "
+             "(the request was %s); send fewer points or ask the "
+             "operator for a longer --timeout",
+             s->cfg.timeout,
+             started ? "being computed" : "waiting in the queue");
+    r->points = -1;
+}
+
+static job_input job_input_of(const compute_job *j) {
+    job_input in = {j->compare, j->kind, j->body, j->len, j->accept,
+                    j->n_opts, (const char *const *)j->opt_key,
+                    (const char *const *)j->opt_val};
+    return in;
+}
+
+/* The worker's part: parse, compute, serialize, compress. Writes j->out. */
+static void job_run(srv_job *base) {
+    compute_job *j = (compute_job *)base;
+    reply *out = &j->out;
+    double queue_ms = (double)(base->started_ns - base->queued_ns) / 1e6;
+    api_request r;
+    api_problem p;
+    memset(&p, 0, sizeof p);
+    api_request_init(&r);
+    out->points = -1;
+    out->algorithm = NULL;
+
+    job_input in = job_input_of(j);
+    int64_t t_parse = srv_now_ns();
+    api_code c = read_input(&r, &in, j->srv->cfg.max_points, &p);
+    free(j->body);
+    j->body = NULL;
+    double parse_ms = ms_since(t_parse);
+    if (c != API_OK)
+        input_problem(out, &p, j->instance, queue_ms, parse_ms);
+    else if (!srv_job_abandoned(base)) /* else nobody will read it */
+        compute_answer(j->srv, &r, j->compare, queue_ms, parse_ms, base,
+                       j->instance, out);
     api_request_clear(&r);
     if (!srv_job_abandoned(base) && out->body != NULL)
         maybe_gzip(out, j->gzip_ok);
@@ -382,13 +447,7 @@ static void job_done(srv_job *base, srv_job_outcome outcome) {
             problemf(&j->r, j->instance, API_INTERNAL,
                      "the computation produced no answer");
     } else if (outcome == SRV_JOB_EXPIRED) {
-        problemf(&j->r, j->instance, API_TIMEOUT,
-                 "the deadline of %g s passed before the answer was ready "
-                 "(the request was %s); send fewer points or ask the "
-                 "operator for a longer --timeout",
-                 j->srv->cfg.timeout,
-                 base->started_ns ? "being computed" : "waiting in the queue");
-        j->r.points = -1;
+        timeout_reply(&j->r, j->srv, j->instance, base->started_ns != 0);
     } else {
         problemf(&j->r, j->instance, API_UNAVAILABLE,
                  "the service is shutting down and could not finish this "
@@ -726,8 +785,70 @@ static char *dup_str(const char *s) {
     return d;
 }
 
+/* The inline path: a request with a small body is read here, on the
+ * connection's thread, with a limit of cfg.inline_points points (a third
+ * of that for /compare, which runs three algorithms). If it fits, it is
+ * computed and answered here too; if it holds or generates more points
+ * (API_TOO_LARGE under the small limit only), it is left for the pool,
+ * which reads it again with the full limit, so every answer is the one
+ * the pool would give. Why: handing a job to a worker (queueing it, waking
+ * the worker, suspending the connection, resuming it through the
+ * inter-thread channel, three context switches) cost ~40 us of CPU per
+ * request on the 2-core development machine -- half of all the work for a
+ * 10-point request, more than computing it. Why 128 points: computing and
+ * writing that many takes ~0.2 ms there, about as long as the other
+ * connections of this thread should wait; larger requests gain little from
+ * skipping the hand-off. Inline requests skip the queue (no 503, queue_ms
+ * 0, not counted in voronoid_workers_busy); the deadline still holds: an
+ * answer ready after it is replaced by the 504 the pool would have sent.
+ * Returns 1 when the request was answered (*rc set), 0 when it is the
+ * pool's. */
+static int run_inline(req *q, struct MHD_Connection *conn,
+                      const job_input *in, const char *instance,
+                      int gzip_ok, int64_t deadline_ns, enum MHD_Result *rc) {
+    srv_server *s = q->srv;
+    size_t lim = s->cfg.inline_points /
+                 (in->compare ? (size_t)VOR_ALGORITHM_COUNT : 1);
+    if (lim == 0 || in->len > SRV_INLINE_MAX_BODY ||
+        atomic_load_explicit(&s->closing, memory_order_acquire))
+        return 0;
+    if (lim > s->cfg.max_points) lim = s->cfg.max_points;
+
+    api_request r;
+    api_problem p;
+    reply out;
+    memset(&p, 0, sizeof p);
+    memset(&out, 0, sizeof out);
+    api_request_init(&r);
+    out.points = -1;
+    int64_t t_parse = srv_now_ns();
+    api_code c = read_input(&r, in, lim, &p);
+    double parse_ms = ms_since(t_parse);
+    if (c == API_TOO_LARGE && lim < s->cfg.max_points) {
+        api_request_clear(&r);
+        return 0; /* too many points to compute here: the pool's job */
+    }
+    if (c != API_OK)
+        input_problem(&out, &p, instance, 0, parse_ms);
+    else
+        compute_answer(s, &r, in->compare, 0, parse_ms, NULL, instance, &out);
+    api_request_clear(&r);
+    if (srv_now_ns() > deadline_ns) {
+        reply_clear(&out);
+        memset(&out, 0, sizeof out);
+        timeout_reply(&out, s, instance, 1);
+    } else if (out.body != NULL) {
+        maybe_gzip(&out, gzip_ok);
+    }
+    q->algorithm = out.algorithm;
+    q->points = out.points;
+    *rc = send_reply(q, conn, &out, NULL, NULL);
+    return 1;
+}
+
 static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
     srv_server *s = q->srv;
+    int64_t deadline_ns = srv_now_ns() + (int64_t)(s->cfg.timeout * 1e9);
     opt_list opts;
     api_problem p;
     memset(&opts, 0, sizeof opts);
@@ -748,6 +869,15 @@ static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
     api_request_clear(&scratch);
     if (c != API_OK) return send_api_problem(q, conn, &p);
 
+    int compare = q->route == SRV_ROUTE_COMPARE;
+    const char *instance = compare ? "/compare" : "/voronoi";
+    int gzip_ok = client_takes_gzip(conn);
+    job_input in = {compare, q->kind, q->body, q->len, accept,
+                    opts.n, opts.key, opts.val};
+    enum MHD_Result rc;
+    if (run_inline(q, conn, &in, instance, gzip_ok, deadline_ns, &rc))
+        return rc;
+
     compute_job *j = calloc(1, sizeof *j);
     if (j == NULL)
         return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
@@ -756,15 +886,14 @@ static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
     atomic_init(&j->answered, 0);
     j->srv = s;
     j->conn = conn;
-    j->compare = q->route == SRV_ROUTE_COMPARE;
-    snprintf(j->instance, sizeof j->instance, "%s",
-             j->compare ? "/compare" : "/voronoi");
+    j->compare = compare;
+    snprintf(j->instance, sizeof j->instance, "%s", instance);
     j->kind = q->kind;
     j->body = q->body;
     j->len = q->len;
     q->body = NULL;
     q->len = q->cap = 0;
-    j->gzip_ok = client_takes_gzip(conn);
+    j->gzip_ok = gzip_ok;
     int oom = 0;
     if (accept != NULL && (j->accept = dup_str(accept)) == NULL) oom = 1;
     for (size_t i = 0; i < opts.n && !oom; i++) {
@@ -782,15 +911,15 @@ static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
     j->base.run = job_run;
     j->base.done = job_done;
     j->base.release = job_release;
-    j->base.deadline_ns = srv_now_ns() + (int64_t)(s->cfg.timeout * 1e9);
+    j->base.deadline_ns = deadline_ns;
 
     q->job = j;
     q->phase = PH_WAIT;
     MHD_suspend_connection(conn);
-    int rc = srv_pool_submit(s->pool, &j->base);
-    if (rc != SRV_POOL_OK) {
+    int st = srv_pool_submit(s->pool, &j->base);
+    if (st != SRV_POOL_OK) {
         /* Not accepted: no callback will come; answer here. */
-        if (rc == SRV_POOL_FULL)
+        if (st == SRV_POOL_FULL)
             problemf(&j->r, j->instance, API_UNAVAILABLE,
                      "all %d workers are busy and %d requests are waiting; "
                      "retry after %d s",
@@ -1083,6 +1212,7 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     s->log_fd = log_fd;
     s->quiesced_fd = MHD_INVALID_SOCKET;
     atomic_init(&s->draining, 0);
+    atomic_init(&s->closing, 0);
     atomic_init(&s->in_flight, 0);
     atomic_init(&s->next_id, 1);
     struct timespec ts;
@@ -1178,7 +1308,9 @@ int srv_server_free(srv_server *s) {
     /* libmicrohttpd must not be stopped with a connection suspended. A
      * request that reaches start_compute from now on is refused by the
      * closed pool and resumes itself at once; every job accepted before is
-     * answered (and its connection resumed) by cancel_all. */
+     * answered (and its connection resumed) by cancel_all. The inline path
+     * sends such requests to the closed pool too. */
+    atomic_store_explicit(&s->closing, 1, memory_order_release);
     srv_pool_close(s->pool);
     srv_pool_cancel_all(s->pool);
     MHD_stop_daemon(s->daemon);
