@@ -4,6 +4,11 @@
  * ASCII without spaces, quotes or '=', otherwise in double quotes with
  * \" \\ and \xNN escapes; any value is cut at 200 bytes (marked "..."), so
  * a line never exceeds SRV_ACCESS_LINE_MAX. O(line length).
+ *
+ * A line is written for every request, so the common case is kept cheap:
+ * plain values are copied as they are, numbers go through fmt.h instead of
+ * printf, and each thread keeps the date and time of the last second it
+ * formatted (gmtime_r once a second, not once a line).
  */
 #include "accesslog.h"
 
@@ -12,6 +17,8 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+
+#include "fmt.h"
 
 #define VALUE_MAX 200
 
@@ -27,6 +34,12 @@ static void put_raw(line *l, const char *s, size_t n) {
     l->len += n;
 }
 
+static void put_key(line *l, const char *key) {
+    if (l->len > 0) put_raw(l, " ", 1);
+    put_raw(l, key, strlen(key));
+    put_raw(l, "=", 1);
+}
+
 static void put_value(line *l, const char *key, const char *v) {
     char tmp[VALUE_MAX * 4 + 8];
     size_t k = 0;
@@ -37,6 +50,11 @@ static void put_value(line *l, const char *key, const char *v) {
         unsigned char c = (unsigned char)v[i];
         if (c <= ' ' || c >= 0x7f || c == '"' || c == '=' || c == '\\')
             quote = 1;
+    }
+    if (!quote && n <= VALUE_MAX) { /* the common case: as it is */
+        put_key(l, key);
+        put_raw(l, v, n);
+        return;
     }
     if (quote) tmp[k++] = '"';
     for (size_t i = 0; i < n && i < VALUE_MAX; i++) {
@@ -55,15 +73,39 @@ static void put_value(line *l, const char *key, const char *v) {
         k += 3;
     }
     if (quote) tmp[k++] = '"';
-    if (l->len > 0) put_raw(l, " ", 1);
-    put_raw(l, key, strlen(key));
-    put_raw(l, "=", 1);
+    put_key(l, key);
     put_raw(l, tmp, k);
+}
+
+/* A number, or "-" when absent. */
+static void put_count(line *l, const char *key, int present, uint64_t v) {
+    char num[24];
+    put_key(l, key);
+    if (present) put_raw(l, num, srv_fmt_u64(num, v));
+    else put_raw(l, "-", 1);
+}
+
+/* "2025-01-31T12:00:00" of secs into out (room for 64 bytes, NUL
+ * included); the last second formatted is kept per thread. */
+static void stamp_seconds(time_t secs, char out[64]) {
+    static _Thread_local int cached_ok;
+    static _Thread_local time_t cached_secs;
+    static _Thread_local char cached[64];
+    if (!cached_ok || secs != cached_secs) {
+        struct tm tm;
+        gmtime_r(&secs, &tm);
+        snprintf(cached, sizeof cached, "%04d-%02d-%02dT%02d:%02d:%02d",
+                 tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
+                 tm.tm_min, tm.tm_sec);
+        cached_secs = secs;
+        cached_ok = 1;
+    }
+    memcpy(out, cached, sizeof cached);
 }
 
 size_t srv_access_format(const srv_access *a, char *out, size_t size) {
     line l = {out, 0, size};
-    char num[64];
+    char num[SRV_FMT_MS3_MAX];
     if (size < 2) {
         if (size) out[0] = '\0';
         return 0;
@@ -73,26 +115,24 @@ size_t srv_access_format(const srv_access *a, char *out, size_t size) {
     time_t secs = (time_t)floor(t);
     int ms = (int)((t - floor(t)) * 1000.0);
     if (ms > 999) ms = 999;
-    struct tm tm;
-    gmtime_r(&secs, &tm);
     char stamp[96];
-    snprintf(stamp, sizeof stamp, "%04d-%02d-%02dT%02d:%02d:%02d.%03dZ",
-             tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour,
-             tm.tm_min, tm.tm_sec, ms);
+    stamp_seconds(secs, stamp);
+    size_t k = strlen(stamp);
+    stamp[k++] = '.';
+    stamp[k++] = (char)('0' + ms / 100);
+    stamp[k++] = (char)('0' + ms / 10 % 10);
+    stamp[k++] = (char)('0' + ms % 10);
+    stamp[k++] = 'Z';
+    stamp[k] = '\0';
     put_value(&l, "time", stamp);
     put_value(&l, "method", a->method);
     put_value(&l, "path", a->path);
-    if (a->status > 0) snprintf(num, sizeof num, "%d", a->status);
-    else strcpy(num, "-");
-    put_value(&l, "status", num);
-    snprintf(num, sizeof num, "%zu", a->bytes);
-    put_value(&l, "bytes", num);
-    snprintf(num, sizeof num, "%.3f", a->ms);
-    put_value(&l, "ms", num);
+    put_count(&l, "status", a->status > 0, (uint64_t)a->status);
+    put_count(&l, "bytes", 1, (uint64_t)a->bytes);
+    put_key(&l, "ms");
+    put_raw(&l, num, srv_fmt_ms3(num, a->ms));
     put_value(&l, "algorithm", a->algorithm);
-    if (a->points >= 0) snprintf(num, sizeof num, "%lld", a->points);
-    else strcpy(num, "-");
-    put_value(&l, "points", num);
+    put_count(&l, "points", a->points >= 0, (uint64_t)a->points);
     put_value(&l, "id", a->request_id);
     if (a->note != NULL) put_value(&l, "note", a->note);
     out[l.len++] = '\n';

@@ -61,6 +61,7 @@
 #include "../api/api.h"
 #include "accesslog.h"
 #include "assets.h"
+#include "fmt.h"
 #include "gzip.h"
 #include "metrics.h"
 #include "pool.h"
@@ -258,6 +259,34 @@ static double ms_since(int64_t t0_ns) {
     return (double)(srv_now_ns() - t0_ns) / 1e6;
 }
 
+/* A Server-Timing value being built: "queue;dur=0.012, parse;dur=...". */
+typedef struct timing_buf {
+    char *p;
+    size_t len, size;
+} timing_buf;
+
+static timing_buf timing_start(char *p, size_t size) {
+    timing_buf t = {p, 0, size};
+    if (size > 0) p[0] = '\0';
+    return t;
+}
+
+/* Appends "name;dur=ms" (ms as "%.3f"); an entry that does not fit is
+ * left out. */
+static void timing_add(timing_buf *t, const char *name, double ms) {
+    char num[SRV_FMT_MS3_MAX];
+    size_t k = srv_fmt_ms3(num, ms), nl = strlen(name);
+    size_t sep = t->len > 0 ? 2 : 0;
+    if (t->len + sep + nl + 5 + k + 1 > t->size) return;
+    char *w = t->p + t->len;
+    memcpy(w, ", ", sep);
+    memcpy(w + sep, name, nl);
+    memcpy(w + sep + nl, ";dur=", 5);
+    memcpy(w + sep + nl + 5, num, k);
+    t->len += sep + nl + 5 + k;
+    t->p[t->len] = '\0';
+}
+
 /* What a computation reads: the request as received, borrowed. */
 typedef struct job_input {
     int compare;
@@ -294,8 +323,9 @@ static void input_problem(reply *out, const api_problem *p,
                           const char *instance, double queue_ms,
                           double parse_ms) {
     problem_reply(out, p, instance);
-    snprintf(out->timing, sizeof out->timing,
-             "queue;dur=%.3f, parse;dur=%.3f", queue_ms, parse_ms);
+    timing_buf tb = timing_start(out->timing, sizeof out->timing);
+    timing_add(&tb, "queue", queue_ms);
+    timing_add(&tb, "parse", parse_ms);
 }
 
 /* Stage 2: computes the diagram (or the comparison) of a parsed request
@@ -330,14 +360,15 @@ static void compute_answer(srv_server *s, const api_request *r, int compare,
                     out->status = 200;
                     out->ctype = api_format_mime(r->format);
                     out->body = api_buf_take(&b, &out->len);
-                    snprintf(out->timing, sizeof out->timing,
-                             "queue;dur=%.3f, parse;dur=%.3f, "
-                             "prepare;dur=%.3f, compute;dur=%.3f, "
-                             "clip;dur=%.3f, serialize;dur=%.3f, "
-                             "total;dur=%.3f",
-                             t.queue_ms, t.parse_ms, t.prepare_ms,
-                             t.compute_ms, t.clip_ms, t.serialize_ms,
-                             t.total_ms);
+                    timing_buf tb =
+                        timing_start(out->timing, sizeof out->timing);
+                    timing_add(&tb, "queue", t.queue_ms);
+                    timing_add(&tb, "parse", t.parse_ms);
+                    timing_add(&tb, "prepare", t.prepare_ms);
+                    timing_add(&tb, "compute", t.compute_ms);
+                    timing_add(&tb, "clip", t.clip_ms);
+                    timing_add(&tb, "serialize", t.serialize_ms);
+                    timing_add(&tb, "total", t.total_ms);
                 }
             }
         }
@@ -352,19 +383,10 @@ static void compute_answer(srv_server *s, const api_request *r, int compare,
             cmp->t.parse_ms = parse_ms;
             c = api_compare_run(r, cmp, &p);
             if (c == API_OK) {
-                char per[200] = "";
-                size_t k = 0;
-                for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
-                    const api_timings *t = &cmp->res[a].t;
+                for (int a = 0; a < VOR_ALGORITHM_COUNT; a++)
                     if (cmp->status[a] == VOR_OK)
                         srv_metrics_compute(s->metrics, (vor_algorithm)a, r->n,
-                                            t->compute_ms / 1e3);
-                    int w = snprintf(per + k, sizeof per - k,
-                                     ", %s;dur=%.3f",
-                                     vor_algorithm_name((vor_algorithm)a),
-                                     t->total_ms);
-                    if (w > 0 && (size_t)w < sizeof per - k) k += (size_t)w;
-                }
+                                            cmp->res[a].t.compute_ms / 1e3);
                 if (!job_stopped(base)) {
                     int64_t t_ser = srv_now_ns();
                     c = api_write_compare(r, cmp, &b, &p);
@@ -373,11 +395,16 @@ static void compute_answer(srv_server *s, const api_request *r, int compare,
                         out->status = 200;
                         out->ctype = "application/json";
                         out->body = api_buf_take(&b, &out->len);
-                        snprintf(out->timing, sizeof out->timing,
-                                 "queue;dur=%.3f, parse;dur=%.3f%s, "
-                                 "serialize;dur=%.3f, total;dur=%.3f",
-                                 queue_ms, parse_ms, per, ser_ms,
-                                 cmp->t.total_ms + ser_ms);
+                        timing_buf tb =
+                            timing_start(out->timing, sizeof out->timing);
+                        timing_add(&tb, "queue", queue_ms);
+                        timing_add(&tb, "parse", parse_ms);
+                        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++)
+                            timing_add(&tb,
+                                       vor_algorithm_name((vor_algorithm)a),
+                                       cmp->res[a].t.total_ms);
+                        timing_add(&tb, "serialize", ser_ms);
+                        timing_add(&tb, "total", cmp->t.total_ms + ser_ms);
                     }
                 }
             }
@@ -972,7 +999,7 @@ static void make_request_id(req *q, struct MHD_Connection *conn) {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     z ^= z >> 31;
-    snprintf(q->id, sizeof q->id, "%016llx", (unsigned long long)z);
+    q->id[srv_fmt_hex64(q->id, z)] = '\0';
 }
 
 /* Body announced? (Content-Length > 0 or a transfer coding.) */
