@@ -4,7 +4,17 @@
  * thread receives them (sigwait). On the first one: stop accepting, wait up
  * to --grace for in-flight requests, answer what is left with 503, stop,
  * exit 0. A second signal during the grace period cuts it short.
+ *
+ * The allocator is told once, before any thread starts, to keep up to
+ * 16 MiB of free memory per arena rather than give it back to the system
+ * after every request, and to map blocks of their own only from 4 MiB up.
+ * By default glibc trims a thread's heap once 128 KiB lie free at its top
+ * and maps every block from 128 KiB until its adaptive threshold has seen
+ * big ones, so each small request paid for madvise() and the page faults
+ * of memory it had just returned (about a tenth of its time); large
+ * requests still return their memory.
  */
+#include <malloc.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -32,6 +42,11 @@ int main(int argc, char **argv) {
     case SRV_CONFIG_OK:
         break;
     }
+
+#if defined(M_TRIM_THRESHOLD) && defined(M_MMAP_THRESHOLD)
+    mallopt(M_MMAP_THRESHOLD, 4 << 20);
+    mallopt(M_TRIM_THRESHOLD, 16 << 20);
+#endif
 
     sigset_t sigs;
     sigemptyset(&sigs);
