@@ -4,8 +4,8 @@
  * route, requests that ended without an answer (client gone, connection
  * timed out), points and compute seconds per algorithm. Gauges that other
  * modules own (queue depth, in-flight requests, readiness) are passed in at
- * render time. All functions are thread-safe (one mutex, held for a few
- * additions per request, never while calling out).
+ * render time. All functions are thread-safe and take no lock (atomic
+ * counters).
  */
 #ifndef VOR_SRV_METRICS_H
 #define VOR_SRV_METRICS_H
