@@ -6,9 +6,13 @@
  * that keeps room for the exit sentinel), one slot per worker naming the job it
  * runs, and the counters. Two condition variables hang off that mutex:
  * `work` wakes workers when a job (or the sentinel) is queued; `watch` wakes
- * the deadline timer and srv_pool_free when deadlines or the idle state may
- * have changed. (libuv's pool needs one; the timer's timed wait is why this
- * one has a second, so a worker's wake-up is never spent on the timer.)
+ * the deadline timer when an earlier deadline arrives or on shutdown, and
+ * srv_pool_free when the pool may have become idle. (libuv's pool needs one;
+ * the timer's timed wait is why this one has a second, so a worker's
+ * wake-up is never spent on the timer.) A finished job wakes nobody unless
+ * srv_pool_free is waiting: the timer, if it was sleeping until that job's
+ * deadline, wakes then, finds nothing due and sleeps on -- one spurious
+ * wake-up per deadline instead of one per job.
  *
  * Job states, changed only under the mutex:
  *
@@ -54,6 +58,7 @@ struct srv_pool {
     size_t n_running;
     int n_workers;
     int closed;           /* no more submissions */
+    int idle_waiters;     /* srv_pool_free calls waiting on watch for idle */
     int stopping;         /* the timer exits */
     int64_t timer_target; /* the deadline the timer sleeps until */
     srv_job sentinel;
@@ -184,7 +189,7 @@ static void *worker_main(void *argp) {
         p->n_running--;
         int call_done = job->state == JOB_RUNNING;
         job->state = JOB_FINISHED;
-        pthread_cond_broadcast(&p->watch);
+        if (p->idle_waiters > 0) pthread_cond_broadcast(&p->watch);
         pthread_mutex_unlock(&p->mu);
 
         if (call_done) {
@@ -211,6 +216,8 @@ static void *timer_main(void *argp) {
     while (!p->stopping) {
         collect(p, srv_now_ns(), &l);
         if (l.n > 0) {
+            /* Dropped queued jobs may have left the pool idle. */
+            if (p->idle_waiters > 0) pthread_cond_broadcast(&p->watch);
             pthread_mutex_unlock(&p->mu);
             settle(&l, SRV_JOB_EXPIRED);
             pthread_mutex_lock(&p->mu);
@@ -383,10 +390,12 @@ int srv_pool_free(srv_pool *p, double wait_s) {
 
     pthread_mutex_lock(&p->mu);
     p->closed = 1;
+    p->idle_waiters++;
     while (p->n_queued + p->n_running > 0) {
         int rc = pthread_cond_timedwait(&p->watch, &p->mu, &ts);
         if (rc == ETIMEDOUT) break;
     }
+    p->idle_waiters--;
     if (p->n_queued + p->n_running > 0) {
         pthread_mutex_unlock(&p->mu);
         return -1;
