@@ -772,6 +772,20 @@ static void sift_up(sweep *w, uint32_t pos, event e) {
     heap_put(w, pos, e);
 }
 
+/* Places e at pos, moving it down past earlier children. */
+static void sift_down(sweep *w, uint32_t pos, event e) {
+    uint32_t n = w->n_heap;
+    for (;;) {
+        uint32_t c = 2 * pos + 1;
+        if (c >= n) break;
+        if (c + 1 < n && ev_before(w, &w->heap[c + 1], &w->heap[c])) c++;
+        if (!ev_before(w, &w->heap[c], &e)) break;
+        heap_put(w, pos, w->heap[c]);
+        pos = c;
+    }
+    heap_put(w, pos, e);
+}
+
 /* Removes the entry at pos: the hole sinks to a leaf along the earlier
  * child (one comparison per level), the last entry fills it and rises to
  * its place. */
@@ -798,32 +812,61 @@ static void drop_event(sweep *w, uint32_t b) {
     rec_free(w, r);
 }
 
-/* Gives arc b the circle event of its triple, if the breakpoints around it
- * converge (exact orient2d > 0). b must have no event. VOR_ENOMEM if the
- * heap cannot grow. */
-static vor_status add_event(sweep *w, uint32_t b) {
+/* The circle event of arc b's current triple: 1 with its interval if the
+ * breakpoints around b converge (exact orient2d > 0), else 0. */
+static int event_of(const sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *x = &w->arcs[b];
-    assert(x->ev == NO_EVENT);
-    if (x->prev == NIL || x->next == NIL) return VOR_OK;
+    if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
-    uint32_t sa = ARC(x->prev).site, sc = z->site;
-    if (sa == sc) return VOR_OK;
-    double lo, hi;
-    if (vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, &lo, &hi) <= 0)
-        return VOR_OK;
-    uint32_t r = rec_new(w);
-    if (r == NO_EVENT) return VOR_ENOMEM;
+    if (ARC(x->prev).site == z->site) return 0;
+    return vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi) > 0;
+}
+
+/* Fills record r for arc b's current triple. */
+static void rec_fill(sweep *w, uint32_t r, uint32_t b) {
     evrec *rec = &w->recs[r];
     rec->arc = b;
-    rec->s[0] = sa;
-    rec->s[1] = x->site;
-    rec->s[2] = sc;
+    rec->s[0] = ARC(ARC(b).prev).site;
+    rec->s[1] = ARC(b).site;
+    rec->s[2] = ARC(ARC(b).next).site;
     double *cache = w->cache + 6 * (size_t)r; /* nothing known about ties yet */
     cache[2] = cache[5] = NAN;
+}
+
+/* Gives arc b the circle event of its triple, if the breakpoints around it
+ * converge. b must have no event. VOR_ENOMEM if the heap cannot grow. */
+static vor_status add_event(sweep *w, uint32_t b) {
+    assert(ARC(b).ev == NO_EVENT);
+    double lo, hi;
+    if (!event_of(w, b, &lo, &hi)) return VOR_OK;
+    uint32_t r = rec_new(w);
+    if (r == NO_EVENT) return VOR_ENOMEM;
+    rec_fill(w, r, b);
     event e = {lo, hi, r};
     w->n_heap++;
     sift_up(w, w->n_heap - 1, e);
     ARC(b).ev = r;
+    return VOR_OK;
+}
+
+/* Arc b's triple has changed: its event, if it keeps one, takes the place
+ * of the old one in the heap and moves up or down from there (cheaper than
+ * a removal and an insertion). */
+static vor_status renew_event(sweep *w, uint32_t b) {
+    uint32_t r = ARC(b).ev;
+    if (r == NO_EVENT) return add_event(w, b);
+    double lo, hi;
+    if (!event_of(w, b, &lo, &hi)) {
+        drop_event(w, b);
+        return VOR_OK;
+    }
+    rec_fill(w, r, b);
+    event e = {lo, hi, r};
+    uint32_t pos = w->recs[r].pos;
+    if (pos > 0 && ev_before(w, &e, &w->heap[(pos - 1) / 2]))
+        sift_up(w, pos, e);
+    else
+        sift_down(w, pos, e);
     return VOR_OK;
 }
 
@@ -848,29 +891,26 @@ static vor_status site_event(sweep *w, uint32_t i) {
         if (s == NIL) return VOR_ENOMEM;
         uint32_t b2 = arc_new(w, ARC(b).site);
         if (b2 == NIL) return VOR_ENOMEM;
-        drop_event(w, b);
         uint32_t e = edge_new(w, ARC(b).site, i, VOR_NONE, 0);
         ARC(b2).edge = ARC(b).edge;
         ARC(b).edge = e;
         ARC(s).edge = e;
         insert_after(w, b, s);
         insert_after(w, s, b2);
-        if ((st = add_event(w, b)) != VOR_OK) return st;
+        if ((st = renew_event(w, b)) != VOR_OK) return st;
         return add_event(w, b2);
     }
     uint32_t r = b, l = ARC(b).prev;
     uint32_t s = arc_new(w, i);
     if (s == NIL) return VOR_ENOMEM;
-    drop_event(w, l);
-    drop_event(w, r);
     uint32_t sl = ARC(l).site, sr = ARC(r).site;
     uint32_t v = vertex_new(w);
     edge_end(w, ARC(l).edge, v, i);
     ARC(l).edge = edge_new(w, sl, i, (int32_t)v, sr);
     ARC(s).edge = edge_new(w, i, sr, (int32_t)v, sl);
     insert_after(w, l, s);
-    if ((st = add_event(w, l)) != VOR_OK) return st;
-    return add_event(w, r);
+    if ((st = renew_event(w, l)) != VOR_OK) return st;
+    return renew_event(w, r);
 }
 
 /* Circle event of arc b between a and c: vertex (a, b, c); the edges of
@@ -880,8 +920,6 @@ static vor_status site_event(sweep *w, uint32_t i) {
  */
 static vor_status circle_event(sweep *w, uint32_t b) {
     uint32_t a = ARC(b).prev, c = ARC(b).next;
-    drop_event(w, a);
-    drop_event(w, c);
     uint32_t sa = ARC(a).site, sb = ARC(b).site, sc = ARC(c).site;
     uint32_t v = vertex_new(w);
     edge_end(w, ARC(a).edge, v, sc);
@@ -889,9 +927,9 @@ static vor_status circle_event(sweep *w, uint32_t b) {
     ARC(a).edge = edge_new(w, sa, sc, (int32_t)v, sb);
     remove_arc(w, b);
     arc_free(w, b);
-    vor_status st = add_event(w, a);
+    vor_status st = renew_event(w, a);
     if (st != VOR_OK) return st;
-    return add_event(w, c);
+    return renew_event(w, c);
 }
 
 /* ---- Driver -------------------------------------------------------------- */
