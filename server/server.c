@@ -1285,7 +1285,6 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
         MHD_OPTION_CONNECTION_TIMEOUT, cfg->connection_timeout,
         MHD_OPTION_CONNECTION_LIMIT, cfg->max_connections,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, s,
-        MHD_OPTION_LISTENING_ADDRESS_REUSE, (unsigned)1,
         MHD_OPTION_END);
     if (s->daemon == NULL) {
         snprintf(err, err_size, "cannot listen on %s port %d (address in "
@@ -1308,9 +1307,18 @@ fail:
 
 int srv_server_port(const srv_server *s) { return s->port; }
 
+/* Draining stops new connections at the kernel: libmicrohttpd stops
+ * accepting, and the listening socket is shut down (not closed: its threads
+ * may still look at the descriptor until MHD_stop_daemon), so connections
+ * that would wait in its backlog are refused and a load balancer sends them
+ * to another daemon at once. Connections already open are served. The
+ * daemon does not set SO_REUSEPORT, so no second daemon can share its port
+ * and take a share of the connections unnoticed. */
 void srv_server_drain(srv_server *s) {
     if (atomic_exchange(&s->draining, 1)) return;
     s->quiesced_fd = MHD_quiesce_daemon(s->daemon);
+    if (s->quiesced_fd != MHD_INVALID_SOCKET)
+        shutdown(s->quiesced_fd, SHUT_RDWR);
 }
 
 size_t srv_server_in_flight(const srv_server *s) {

@@ -93,6 +93,12 @@ static void test_sigterm_loses_nothing(void **state) {
     assert_non_null(strstr(buf, "/problems/unavailable"));
     close(fd);
 
+    /* New connections are refused at once rather than left waiting in a
+     * backlog nobody accepts from: a load balancer tries another daemon. */
+    int late = it_connect(d.port);
+    if (late >= 0) close(late);
+    assert_true(late < 0);
+
     pthread_join(th, NULL);
     for (int i = 0; i < N; i++) {
         if (r[i].curl_rc != 0 || r[i].status != 200)
@@ -164,11 +170,33 @@ static void test_grace_over_answers_503(void **state) {
     it_cleanup(&d);
 }
 
+/* Regression: the daemon set SO_REUSEPORT, so a second daemon started on
+ * a port in use came up and silently took part of the first one's
+ * connections. Now it must refuse to start, naming the port. */
+static void test_port_in_use_refused(void **state) {
+    (void)state;
+    it_daemon a, b;
+    assert_int_equal(it_start(&a, NULL), 0);
+    char port[16];
+    snprintf(port, sizeof port, "%d", a.port);
+    const char *args[] = {"--port", port, NULL};
+    assert_int_equal(it_start(&b, args), -1);
+    char *log = it_log(&b);
+    assert_non_null(log);
+    assert_non_null(strstr(log, "cannot listen"));
+    assert_non_null(strstr(log, port));
+    free(log);
+    it_cleanup(&b);
+    assert_int_equal(it_stop(&a, SIGTERM), 0);
+    it_cleanup(&a);
+}
+
 int main(void) {
     curl_global_init(CURL_GLOBAL_ALL);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sigterm_loses_nothing),
         cmocka_unit_test(test_grace_over_answers_503),
+        cmocka_unit_test(test_port_in_use_refused),
     };
     int rc = cmocka_run_group_tests_name("integration/shutdown", tests, NULL,
                                          NULL);
