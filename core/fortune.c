@@ -62,7 +62,7 @@
  *
  * Cost: O(n log n) time: sorting O(n), each site one search of the tree
  * (O(log n) breakpoint predicates), each event O(log n) heap and tree work;
- * about 0.9 us per uniform site at 10^6 sites, of which the heap takes a
+ * about 1 us of CPU per uniform site at 10^6 sites, of which the heap takes a
  * third, the circle-top filter a seventh. Exact arithmetic runs only near
  * degeneracies. Memory: the sorted copy (20 bytes per site; the sort needs
  * 48 more while it runs), raw edges (at most 3n, 24 bytes each),
