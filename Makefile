@@ -12,6 +12,9 @@
 # -> one cmocka binary each. Adding a file needs no edit here.
 
 SHELL := /bin/bash
+# B is the output directory: parallel builds of one tree can use their own.
+# Set before any rule names it: make expands prerequisites as it reads them.
+B ?= build
 CC ?= gcc
 ifeq ($(origin CC),default)
 CC := gcc
@@ -116,8 +119,6 @@ $(2)/tests/integration/%: $(2)/tests/integration/%.o $(2)/libvortest.a \
 	    $$(CORE_LIBS)
 endef
 
-# B is the output directory: parallel builds of one tree can use their own.
-B ?= build
 $(eval $(call VARIANT,release,$(B)))
 $(eval $(call VARIANT,asan,$(B)/asan))
 $(eval $(call VARIANT,tsan,$(B)/tsan))
