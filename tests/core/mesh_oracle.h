@@ -529,4 +529,31 @@ static inline void mo_test_diagram(const mo_algorithm *a) {
     }
 }
 
+/* ---- the test program of one algorithm ---------------------------------
+ * Each case receives the algorithm as cmocka's prestate, so the test files
+ * of Bowyer-Watson and flipping only name their algorithm. */
+#define MO__CASE(name, body)                                                 \
+    static inline void name(void **state) { body((const mo_algorithm *)*state); }
+MO__CASE(mo_case_standard_sets, mo_test_standard_sets)
+MO__CASE(mo_case_collinear_start, mo_test_collinear_start)
+MO__CASE(mo_case_sites_on_hull_edges, mo_test_hull_edges)
+MO__CASE(mo_case_sites_on_interior_edges, mo_test_interior_edges)
+MO__CASE(mo_case_degenerate_sets_shuffled, mo_test_shuffled_degenerate)
+MO__CASE(mo_case_diagram_from_mesh, mo_test_diagram)
+#undef MO__CASE
+
+static inline int mo_main(const mo_algorithm *a, const char *group) {
+    void *st = (void *)(uintptr_t)a;
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_prestate(mo_case_standard_sets, st),
+        cmocka_unit_test_prestate(mo_case_collinear_start, st),
+        cmocka_unit_test_prestate(mo_case_sites_on_hull_edges, st),
+        cmocka_unit_test_prestate(mo_case_sites_on_interior_edges, st),
+        cmocka_unit_test_prestate(mo_case_degenerate_sets_shuffled, st),
+        cmocka_unit_test_prestate(mo_case_diagram_from_mesh, st),
+    };
+    return _cmocka_run_group_tests(group, tests, sizeof tests / sizeof tests[0],
+                                   NULL, NULL);
+}
+
 #endif /* VOR_TESTS_MESH_ORACLE_H */

@@ -13,44 +13,4 @@ static const mo_algorithm algorithm = {
     vor__bowyer_watson,
 };
 
-static void test_standard_sets(void **state) {
-    (void)state;
-    mo_test_standard_sets(&algorithm);
-}
-
-static void test_collinear_start(void **state) {
-    (void)state;
-    mo_test_collinear_start(&algorithm);
-}
-
-static void test_sites_on_hull_edges(void **state) {
-    (void)state;
-    mo_test_hull_edges(&algorithm);
-}
-
-static void test_sites_on_interior_edges(void **state) {
-    (void)state;
-    mo_test_interior_edges(&algorithm);
-}
-
-static void test_degenerate_sets_shuffled(void **state) {
-    (void)state;
-    mo_test_shuffled_degenerate(&algorithm);
-}
-
-static void test_diagram_from_mesh(void **state) {
-    (void)state;
-    mo_test_diagram(&algorithm);
-}
-
-int main(void) {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_standard_sets),
-        cmocka_unit_test(test_collinear_start),
-        cmocka_unit_test(test_sites_on_hull_edges),
-        cmocka_unit_test(test_sites_on_interior_edges),
-        cmocka_unit_test(test_degenerate_sets_shuffled),
-        cmocka_unit_test(test_diagram_from_mesh),
-    };
-    return cmocka_run_group_tests_name("core/bowyer_watson", tests, NULL, NULL);
-}
+int main(void) { return mo_main(&algorithm, "core/bowyer_watson"); }
