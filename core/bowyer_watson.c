@@ -22,6 +22,11 @@
  * O(n log n) with the sort; memory: the mesh (48 bytes per site), the
  * sites copied in insertion order (16), the order (4) and two small arrays
  * for the cavity and its boundary.
+ *
+ * vor__bowyer_watson hands the mesh as it stands (ghosts, local ids) to
+ * vor__mesh_dual (mesh_dual.c), which reads the diagram off it in
+ * insertion order; vor__bowyer_watson_mesh finishes it for the checker and
+ * the tests instead.
  */
 #include <assert.h>
 #include <stdlib.h>
@@ -152,7 +157,6 @@ static vor_status insert(bw *st, uint32_t p) {
     cav[ncav++] = (uint32_t)m->n_tri;
     cav[ncav++] = (uint32_t)m->n_tri + 1;
     m->n_tri += 2;
-    uint32_t ghost = UINT32_MAX;
     uint32_t t = cav[0];
     for (size_t i = 0; i < nb; i++) {
         uint32_t f = bnd[i];
@@ -166,20 +170,19 @@ static vor_status insert(bw *st, uint32_t p) {
         adj[f] = (int32_t)(3 * t);
         adj[3 * t + 1] = (int32_t)(3 * u + 2);
         adj[3 * u + 2] = (int32_t)(3 * t + 1);
-        if (a == VOR__GHOST || b == VOR__GHOST)
-            ghost = t;
         t = u;
     }
-    if (ghost != UINT32_MAX)
-        st->w.ghost = ghost;
     st->w.tri = cav[0];
     return VOR_OK;
 }
 
-vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
-                                           uint32_t *order, vor__mesh *m) {
+/* The ghost-closed mesh in local ids (mesh.h), *pxy the coordinates in
+ * insertion order; on error nothing is left allocated. */
+static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
+                        double **pxy) {
     double *xy;
     bw st = {.m = m};
+    *pxy = NULL;
     if (grow(&st)) {
         free(st.cav);
         free(st.bnd);
@@ -196,12 +199,23 @@ vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
         r = insert(&st, v);
     free(st.cav);
     free(st.bnd);
-    free(xy);
     if (r != VOR_OK) {
+        free(xy);
         vor__mesh_clear(m);
         return r;
     }
-    vor__mesh_finish(m, &st.w, order);
+    *pxy = xy;
+    return VOR_OK;
+}
+
+vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
+                                           uint32_t *order, vor__mesh *m) {
+    double *xy;
+    vor_status r = build(s, order, m, &xy);
+    if (r != VOR_OK)
+        return r;
+    free(xy);
+    vor__mesh_finish(m, order);
     return VOR_OK;
 }
 
@@ -219,10 +233,5 @@ vor_status vor__bowyer_watson_mesh(const vor_sites *s, vor__mesh *m) {
 }
 
 vor_status vor__bowyer_watson(const vor_sites *s, vor_diagram **out) {
-    vor__mesh m = {0};
-    *out = NULL;
-    vor_status r = vor__bowyer_watson_mesh(s, &m);
-    if (r != VOR_OK)
-        return r;
-    return vor__mesh_to_diagram(s, &m, out);
+    return vor__mesh_voronoi(s, build, out);
 }

@@ -28,7 +28,11 @@
  * average), so the build is O(n) for any input whose sites each are the
  * smallest of a bounded number of circles and O(n log n) at worst. Cost at
  * 10^6 uniform sites in random order (2 cores, Debian 12): about 1.1 s CPU
- * for a mesh conversion, dominated by cache misses on the sites.
+ * for a mesh conversion, dominated by cache misses on the sites. That is
+ * why Bowyer-Watson and flipping do not come through here but through
+ * mesh_dual.c, which reads the same canonical diagram off their mesh in
+ * its own (spatial) order; vor__mesh_to_diagram stays for finished meshes
+ * and is that path's oracle in the tests.
  * Peak memory: the result (about 133 bytes per site for uniform input) is
  * never held twice; the largest moment is the chaining of the cells,
  * about 141 bytes per site.

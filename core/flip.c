@@ -27,6 +27,11 @@
  * Cost: expected O(1) walk steps and flips per site in spatial order,
  * O(n log n) with the sort; memory: the mesh (48 bytes per site), the
  * sites copied in insertion order (16), the order (4) and one small stack.
+ *
+ * vor__flip hands the mesh as it stands (ghosts, local ids) to
+ * vor__mesh_dual (mesh_dual.c), which reads the diagram off it in
+ * insertion order; vor__flip_mesh finishes it for the checker and the
+ * tests instead.
  */
 #include <assert.h>
 #include <stdlib.h>
@@ -143,8 +148,6 @@ static void split4(flipper *st, uint32_t e, uint32_t p) {
     if (d != VOR__GHOST) {
         st->stack[st->n++] = nf;
         st->stack[st->n++] = 3 * u2 + 2;
-    } else {
-        st->w.ghost = u2;
     }
     st->w.tri = e / 3;
 }
@@ -211,7 +214,6 @@ static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
     link(adj, 3 * g0 + 2, (uint32_t)x0);
     link(adj, 3 * g1, outk);
     link(adj, 3 * g1 + 1, (uint32_t)xk);
-    st->w.ghost = g0;
     st->w.tri = first / 3;
     return VOR_OK;
 }
@@ -299,10 +301,13 @@ static vor_status insert(flipper *st, uint32_t p) {
     return legalise(st, p);
 }
 
-vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
-                                  vor__mesh *m) {
+/* The ghost-closed mesh in local ids (mesh.h), *pxy the coordinates in
+ * insertion order; on error nothing is left allocated. */
+static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
+                        double **pxy) {
     double *xy;
     flipper st = {.m = m};
+    *pxy = NULL;
     vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
     if (r != VOR_OK)
         return r;
@@ -310,12 +315,23 @@ vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
     for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
         r = insert(&st, v);
     free(st.stack);
-    free(xy);
     if (r != VOR_OK) {
+        free(xy);
         vor__mesh_clear(m);
         return r;
     }
-    vor__mesh_finish(m, &st.w, order);
+    *pxy = xy;
+    return VOR_OK;
+}
+
+vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
+                                  vor__mesh *m) {
+    double *xy;
+    vor_status r = build(s, order, m, &xy);
+    if (r != VOR_OK)
+        return r;
+    free(xy);
+    vor__mesh_finish(m, order);
     return VOR_OK;
 }
 
@@ -333,10 +349,5 @@ vor_status vor__flip_mesh(const vor_sites *s, vor__mesh *m) {
 }
 
 vor_status vor__flip(const vor_sites *s, vor_diagram **out) {
-    vor__mesh m = {0};
-    *out = NULL;
-    vor_status r = vor__flip_mesh(s, &m);
-    if (r != VOR_OK)
-        return r;
-    return vor__mesh_to_diagram(s, &m, out);
+    return vor__mesh_voronoi(s, build, out);
 }

@@ -105,7 +105,6 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
         adj[3 * (1 + vor__prev(e)) + 2] = (int32_t)(3 * g + 1);
     }
     w->tri = 0;
-    w->ghost = 1;
     w->rng = 0x9e3779b9u;
     *pxy = local;
     return VOR_OK;
@@ -248,11 +247,13 @@ static void move_triangle(uint32_t *tri, int32_t *adj, uint32_t from,
     }
 }
 
-void vor__mesh_finish(vor__mesh *m, const vor__walk *w,
-                      const uint32_t *order) {
+void vor__mesh_finish(vor__mesh *m, const uint32_t *order) {
     uint32_t *tri = m->tri;
     int32_t *adj = m->adj;
-    uint32_t e0 = ghost_hull_edge(tri, w->ghost);
+    uint32_t g0 = 0;
+    while (!vor__mesh_is_ghost(tri, g0)) /* there are at least three */
+        g0++;
+    uint32_t e0 = ghost_hull_edge(tri, g0);
     size_t h = 0;
     uint32_t e = e0;
     do {

@@ -30,11 +30,10 @@
 #define VOR__GHOST UINT32_MAX
 
 /* Walk state kept between insertions: where the last point went (the next
- * one, close in insertion order, starts its walk there), one ghost triangle
- * (to find the hull at the end) and the random bits of the walk. */
+ * one, close in insertion order, starts its walk there) and the random bits
+ * of the walk. */
 typedef struct vor__walk {
     uint32_t tri;
-    uint32_t ghost;
     uint32_t rng;
 } vor__walk;
 
@@ -79,12 +78,35 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
  * the segment ab. */
 int vor__ghost_conflict(const double *a, const double *b, const double *p);
 
-/* Removes the ghost triangles (w->ghost must be one of them) and maps the
- * local vertex ids back to site indices through order: the finite twins of
- * hull edges get adj -1 and the finite triangles stored after the first
- * n_tri - h slots move into the holes. O(n_tri). Cannot fail. */
-void vor__mesh_finish(vor__mesh *m, const vor__walk *w,
-                      const uint32_t *order);
+/* Removes the ghost triangles and maps the local vertex ids back to site
+ * indices through order: the finite twins of hull edges get adj -1 and the
+ * finite triangles stored after the first n_tri - h slots move into the
+ * holes. O(n_tri). Cannot fail. */
+void vor__mesh_finish(vor__mesh *m, const uint32_t *order);
+
+/* Builds the ghost-closed mesh of all sites in local ids, inserting them
+ * in the given order (permuted as by vor__mesh_begin); on success *pxy is
+ * the coordinates in insertion order (free with free()), on error nothing
+ * is left allocated and m is empty. bowyer_watson.c and flip.c have one
+ * each. */
+typedef vor_status (*vor__mesh_build_fn)(const vor_sites *s, uint32_t *order,
+                                         vor__mesh *m, double **pxy);
+
+/* The canonical Voronoi diagram read straight off a ghost-closed mesh, as
+ * a vor__mesh_build_fn leaves it: vertex v is site order[v], at lxy[2v]
+ * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
+ * mesh, and to vor__diagram_build. Consumes m (cleared), lxy and order
+ * (freed), also on error; on error *out is NULL. O(n) for sites of bounded
+ * degree, about 14 bytes per site of memory besides the mesh and the
+ * result. */
+vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
+                          uint32_t *order, vor_diagram **out);
+
+/* vor__bowyer_watson and vor__flip: the insertion order
+ * (vor__insertion_order), the mesh from build, then vor__mesh_dual. Same
+ * contract as a vor__algorithm_fn (mesh_dual.c). */
+vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
+                             vor_diagram **out);
 
 /* The triangulations with a given insertion order (tests use this to force
  * degenerate starts). order holds n site indices, each once; it is

@@ -1,0 +1,887 @@
+/* mesh_dual.c -- the canonical Voronoi diagram read straight off the
+ * ghost-closed Delaunay mesh that Bowyer-Watson and flipping leave behind:
+ * the same diagram, bit for bit, that vor__diagram_build (diagram.c)
+ * defines, without its sorting.
+ *
+ * Why a separate path. The mesh numbers vertices and triangles in
+ * insertion order, which is spatial (mesh.h); the canonical diagram is
+ * ordered by site index, which is random in space. Every structure that
+ * is visited in one order and written in the other costs a cache miss per
+ * element, and a dependent chain of misses (a walk around a vertex at a
+ * random place) costs a full memory latency per step. So the conversion
+ * walks the mesh only in its own order, writes one compact record per
+ * site, and does the rest in site order with sequential reads and writes:
+ *
+ *   count    one pass over the triangles: each site's number of finite
+ *            neighbours (its cell size), prefix-summed into cell_start; a
+ *            half-edge out of every vertex (outl).
+ *   records  the fans in insertion order, a block of BLOCK vertices walked
+ *            in lockstep so that their misses overlap. Each site's record
+ *            goes to cell_start[site]: its finite neighbours counter-
+ *            clockwise, starting after the ghost (hull site) or at its
+ *            smallest neighbour (interior site) -- exactly the order of its
+ *            cell, because the smallest neighbour's edge has the smallest
+ *            edge id -- each slot with the neighbour's site and the
+ *            triangle on the slot's left (rwt), and the record position of
+ *            the twin slot (rx, which becomes cell_edges). Every interior
+ *            edge is tested here, once, with the exact vor_incircle against
+ *            the apexes of its two triangles (fan neighbours, already in
+ *            the cache); at the first cocircular one the pass stops.
+ *   sweep    sites in index order, records read in order. Site i owns the
+ *            vertices whose other two sites exceed i (ids in (s1, s2)
+ *            order: the canonical vertex order is by smallest site) and
+ *            the edges to larger sites (ids in site order); an edge's ends
+ *            are the ids of its two triangles, whose owners are at most i
+ *            and so already numbered (vid, by triangle). Each new edge id
+ *            is written into its slot and into the twin slot, so every
+ *            record becomes its cell. Only vid and the twin slots are
+ *            visited at random, prefetched SWEEP_AHEAD sites early.
+ *   xy       vertex coordinates with vor_circumcenter from the three sites
+ *            in increasing index order, ray directions with
+ *            vor_bisector_dir, outward read off the ghost side: the same
+ *            calls vor__diagram_build makes, hence the same bits.
+ *
+ * Twins meet through adj. The first of two neighbours to be visited
+ * stashes its slot position in the adj of the twin half-edge (the one
+ * pointing into itself: once a vertex's fan has been walked, the adj of a
+ * half-edge into it is never read again, since walks read the adj of the
+ * half-edges into their own vertex); the second reads it from the adj of
+ * its own half-edge and links both slots.
+ *
+ * Cocircular sites. A vertex of four or more sites is one circle, which
+ * the per-triangle records cannot express, so the first exactly
+ * cocircular edge ends the fast path. The adj entries stashed so far are
+ * restored (each pair of twins has one half-edge from the earlier to the
+ * later visited vertex whose adj was never touched), triangles across
+ * cocircular edges are merged into groups by a union-find pass, each
+ * group's three smallest sites are found, and the diagram is swept
+ * straight off the mesh in site order (sweep_mesh): slower, every fan a
+ * random visit, but only taken for such input.
+ *
+ * Cost: O(n) passes for sites of bounded degree, O(k log k) for a site of
+ * degree k; about 0.6 s for 10^6 uniform sites on the development machine
+ * under load, against 1.1 to 1.4 s for vor__mesh_to_diagram. Memory at the
+ * peak: the mesh (48 bytes per site) with its coordinates (16), order (4),
+ * outl (4), cell_start (4) and the records (12 per slot, about 72), then,
+ * the mesh freed, the records with vid (8) and the result without its
+ * coordinates (about 101); the coordinates (32) come last, when everything
+ * else is freed.
+ */
+#include <assert.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mesh.h"
+
+#define XY(v) (lxy + 2 * (size_t)(v))
+
+/* Low word of a record slot whose left triangle is a ghost (the last slot
+ * of a hull site's record); otherwise it is a triangle id. */
+#define GHOST_T UINT32_MAX
+/* vid[t] of a triangle in a cocircular group: GROUP_BIT | group index. */
+#define GROUP_BIT 0x80000000u
+/* Stashed in adj for a pair of sites whose Delaunay edge lies inside a
+ * group (no Voronoi edge). */
+#define NO_EDGE INT32_MAX
+#define UNSET UINT32_MAX
+#define PENDING (UINT32_MAX - 1)
+/* Lists of up to this many keys are ranked by counting or sorted by
+ * insertion. */
+#define SMALL_SORT 24
+/* How far ahead (in vertices) the records and coordinates prefetch. */
+#define AHEAD 48
+/* Vertices walked together in the records pass, and the longest fan
+ * walked that way (a longer one is walked again, alone). */
+#define BLOCK 32
+#define BLOCK_FAN 24
+_Static_assert(BLOCK_FAN < 64 && BLOCK_FAN < 256, "fans of the block walk fit the scratch");
+/* How many sites ahead the sweep prefetches vid and the twin slots. */
+#define SWEEP_AHEAD 8
+
+/* Results of the passes besides a vor_status. PASS_BROKEN: the mesh breaks
+ * its contract (a bug of ours: asserted in a debug build). */
+enum { PASS_OK = 0, PASS_COCIRCULAR = 1, PASS_NOMEM = -1, PASS_BROKEN = -2 };
+
+typedef struct key_slot {
+    uint64_t key;
+    uint32_t slot;
+} key_slot;
+
+typedef struct dual {
+    const vor_sites *s;
+    size_t n, T, h; /* sites; triangles, ghosts included; ghosts */
+    uint32_t *tri;
+    int32_t *adj;
+    const double *lxy;
+    const uint32_t *order;
+    uint32_t *outl; /* n: a half-edge out of each local vertex */
+    uint64_t *rwt;  /* per record slot: neighbour site << 32 | left triangle */
+    uint32_t *vid;  /* T: vertex id, or GROUP_BIT | group */
+    uint32_t *rank; /* general path: site -> local vertex */
+    uint32_t *gtrip, *gid; /* per group: three smallest sites; vertex id */
+    /* scratch for one fan, cap slots */
+    uint32_t *he, *wl, *ws, *ed;
+    key_slot *ks, *kt, *km;
+    size_t cap;
+    /* the result being written, and how far */
+    vor_diagram *d;
+    size_t nv, ne, nr;
+} dual;
+
+static void *xmalloc(size_t count, size_t size) {
+    if (count == 0) count = 1;
+    if (count > SIZE_MAX / size) return NULL;
+    return malloc(count * size);
+}
+
+/* Grows the fan scratch to at least k slots (doubling, at least 64). -1
+ * when out of memory; arrays that did grow are kept, cap is unchanged. */
+static int reserve(dual *D, size_t k) {
+    if (k <= D->cap) return 0;
+    size_t cap = D->cap ? D->cap : 64;
+    while (cap < k) cap *= 2;
+    void *p;
+#define GROW(field)                                                        \
+    if (!(p = realloc(D->field, cap * sizeof *D->field))) return -1;       \
+    D->field = p;
+    GROW(he) GROW(wl) GROW(ws) GROW(ed) GROW(ks) GROW(kt) GROW(km)
+#undef GROW
+    D->cap = cap;
+    return 0;
+}
+
+/* Sorts a[0..k-1] by key (keys are distinct): insertion for short
+ * lists, else a bottom-up merge through tmp. */
+static void sort_ks(key_slot *a, key_slot *tmp, size_t k) {
+    if (k <= SMALL_SORT) {
+        for (size_t i = 1; i < k; i++) {
+            key_slot x = a[i];
+            size_t j = i;
+            while (j > 0 && x.key < a[j - 1].key) {
+                a[j] = a[j - 1];
+                j--;
+            }
+            a[j] = x;
+        }
+        return;
+    }
+    for (size_t w = 1; w < k; w *= 2) {
+        for (size_t lo = 0; lo < k; lo += 2 * w) {
+            size_t mid = lo + w < k ? lo + w : k;
+            size_t hi = lo + 2 * w < k ? lo + 2 * w : k;
+            size_t i = lo, j = mid, o = lo;
+            while (i < mid && j < hi)
+                tmp[o++] = a[j].key < a[i].key ? a[j++] : a[i++];
+            while (i < mid) tmp[o++] = a[i++];
+            while (j < hi) tmp[o++] = a[j++];
+        }
+        memcpy(a, tmp, k * sizeof *a);
+    }
+}
+
+/* rank[ks[j].slot] = the position of ks[j] among ks[0..m-1] in key order
+ * (keys are distinct): by counting for short lists (no branches on the
+ * keys), else by sorting ks through tmp. */
+static void rank_ks(key_slot *ks, key_slot *tmp, size_t m, uint32_t *rank) {
+    if (m <= 2) {
+        if (m == 2) {
+            uint32_t x = ks[1].key < ks[0].key;
+            rank[ks[0].slot] = x;
+            rank[ks[1].slot] = x ^ 1;
+        } else if (m == 1) {
+            rank[ks[0].slot] = 0;
+        }
+        return;
+    }
+    if (m <= SMALL_SORT) {
+        for (size_t j = 0; j < m; j++) {
+            uint32_t r = 0;
+            for (size_t k = 0; k < m; k++) r += ks[k].key < ks[j].key;
+            rank[ks[j].slot] = r;
+        }
+        return;
+    }
+    sort_ks(ks, tmp, m);
+    for (size_t j = 0; j < m; j++) rank[ks[j].slot] = (uint32_t)j;
+}
+
+/* Records the fan of the vertex that half-edge e0 leaves, counter-
+ * clockwise: he[k] the half-edges, wl[k] the neighbours' local ids, ws[k]
+ * their sites (VOR__GHOST for the ghost). *deg receives the count.
+ * PASS_OK, PASS_NOMEM, or PASS_BROKEN if the walk does not close. */
+static int walk_fan(dual *D, uint32_t e0, size_t *deg) {
+    const uint32_t *tri = D->tri, *order = D->order;
+    const int32_t *adj = D->adj;
+    size_t k = 0;
+    uint32_t e = e0;
+    do {
+        if (k == D->cap) {
+            if (k > D->n) return PASS_BROKEN;
+            if (reserve(D, k + 1)) return PASS_NOMEM;
+        }
+        uint32_t w = tri[vor__next(e)];
+        D->he[k] = e;
+        D->wl[k] = w;
+        D->ws[k] = w == VOR__GHOST ? VOR__GHOST : order[w];
+        k++;
+        e = (uint32_t)adj[vor__prev(e)];
+    } while (e != e0);
+    *deg = k;
+    return PASS_OK;
+}
+
+/* ---- fast path: the records ----------------------------------------------
+ * See the file comment. PASS_COCIRCULAR at the first cocircular edge,
+ * before anything of that vertex is written. */
+static int build_records(dual *D) {
+    const size_t n = D->n;
+    const uint32_t *tri = D->tri;
+    int32_t *adj = D->adj;
+    const double *lxy = D->lxy;
+    const uint32_t *order = D->order, *outl = D->outl, *cs = D->d->cell_start;
+    uint64_t *rwt = D->rwt;
+    uint32_t *rx = D->d->cell_edges;
+    uint32_t fan[BLOCK][BLOCK_FAN], cur[BLOCK];
+    uint8_t fdeg[BLOCK];
+
+    for (size_t v = 0; v < n; v++) {
+        const size_t j = v % BLOCK;
+        if (j == 0) {
+            /* walk the block's fans together: their misses overlap */
+            const size_t nb = n - v < BLOCK ? n - v : BLOCK;
+            for (size_t b = 0; b < nb; b++) {
+                cur[b] = outl[v + b];
+                fdeg[b] = 0;
+            }
+            for (int active = 1; active;) {
+                active = 0;
+                for (size_t b = 0; b < nb; b++) {
+                    uint32_t e = cur[b];
+                    if (e == UINT32_MAX) continue;
+                    if (fdeg[b] == BLOCK_FAN) { /* too long: walked alone */
+                        fdeg[b] = 0;
+                        cur[b] = UINT32_MAX;
+                        continue;
+                    }
+                    fan[b][fdeg[b]++] = e;
+                    uint32_t w = tri[vor__next(e)];
+                    if (w != VOR__GHOST) {
+                        __builtin_prefetch(order + w);
+                        __builtin_prefetch(lxy + 2 * (size_t)w);
+                    }
+                    e = (uint32_t)adj[vor__prev(e)];
+                    __builtin_prefetch(adj + e);
+                    __builtin_prefetch(tri + e);
+                    cur[b] = e == fan[b][0] ? UINT32_MAX : e;
+                    active = 1;
+                }
+            }
+        }
+        /* where the records of vertices AHEAD/2 on go, and, before that,
+         * where to find it */
+        if (v + AHEAD < n) __builtin_prefetch(cs + order[v + AHEAD]);
+        if (v + AHEAD / 2 < n) {
+            uint32_t q = cs[order[v + AHEAD / 2]];
+            __builtin_prefetch(rwt + q, 1);
+            __builtin_prefetch(rx + q, 1);
+        }
+        size_t deg = fdeg[j];
+        if (deg) { /* fits the scratch: cap >= 64 > BLOCK_FAN */
+            for (size_t k = 0; k < deg; k++) {
+                uint32_t e = fan[j][k], w = tri[vor__next(e)];
+                D->he[k] = e;
+                D->wl[k] = w;
+                D->ws[k] = w == VOR__GHOST ? VOR__GHOST : order[w];
+            }
+        } else {
+            int r = walk_fan(D, outl[v], &deg);
+            if (r != PASS_OK) return r;
+        }
+        const uint32_t *he = D->he, *wl = D->wl, *ws = D->ws;
+        const double *pv = XY(v);
+
+        /* interior edges to vertices visited later: not cocircular? */
+        size_t ghost = deg, start = 0;
+        uint32_t least = UINT32_MAX;
+        for (size_t k = 0; k < deg; k++) {
+            if (wl[k] == VOR__GHOST) {
+                ghost = k;
+                continue;
+            }
+            if (ws[k] < least) {
+                least = ws[k];
+                start = k;
+            }
+            if (wl[k] < v) continue;
+            size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
+            if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
+            int ic = vor__incircle_fast(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]));
+            if (ic >= 0) return ic == 0 ? PASS_COCIRCULAR : PASS_BROKEN;
+        }
+        if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;
+
+        /* the record, in cell order; twins meet through adj */
+        uint32_t p = cs[order[v]];
+        for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
+            if (k == ghost) continue;
+            size_t kn = k + 1 < deg ? k + 1 : 0;
+            rwt[p] = (uint64_t)ws[k] << 32 | (wl[kn] == VOR__GHOST ? GHOST_T : he[k] / 3);
+            if (wl[k] < v) {
+                uint32_t q = (uint32_t)adj[he[k]];
+                rx[p] = q;
+                rx[q] = p;
+            } else {
+                adj[adj[he[k]]] = (int32_t)p;
+            }
+            p++;
+        }
+    }
+    return PASS_OK;
+}
+
+/* ---- fast path: the sweep in site order ------------------------------------
+ * See the file comment. A hull site's record has the ghost right of its
+ * first slot and left of its last; an interior site's record is a cycle. */
+static int sweep_records(dual *D) {
+    const size_t n = D->n;
+    const uint64_t *rwt = D->rwt;
+    uint32_t *vid = D->vid;
+    const double *sxy = D->s->xy;
+    vor_diagram *d = D->d;
+    const uint32_t *cs = d->cell_start;
+    uint32_t *rx = d->cell_edges, *vsites = d->vertex_sites, *esites = d->edge_sites;
+    int32_t *eends = d->edge_ends;
+    size_t nv = 0, ne = 0, nr = 0;
+#define RW(p) ((uint32_t)(rwt[p] >> 32))
+#define RT(p) ((uint32_t)rwt[p])
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t si = (uint32_t)i, lo = cs[i], hi = cs[i + 1];
+        if (hi - lo < 2) return PASS_BROKEN;
+        if (reserve(D, hi - lo)) return PASS_NOMEM;
+        key_slot *ko = D->ks, *ku = D->kt;
+        uint32_t *ro = D->ed, *ru = D->he;
+        if (i + SWEEP_AHEAD < n) { /* vid and the twins, a few sites on */
+            const uint32_t ia = (uint32_t)(i + SWEEP_AHEAD);
+            for (uint32_t p = cs[ia]; p < cs[ia + 1]; p++) {
+                uint32_t t = RT(p);
+                if (t != GHOST_T) __builtin_prefetch(vid + t, 1);
+                if (RW(p) > ia) __builtin_prefetch(rx + rx[p], 1);
+            }
+        }
+        const int hull = RT(hi - 1) == GHOST_T;
+
+        /* the vertices i owns and the edges to larger sites */
+        size_t no = 0, nu = 0;
+        uint32_t b = RW(lo);
+        for (uint32_t p = hi; p-- > lo;) {
+            const uint32_t a = RW(p), t = RT(p);
+            if (a > si) {
+                ku[nu].key = a;
+                ku[nu++].slot = p - lo;
+                if (b > si && t != GHOST_T) {
+                    ko[no].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+                    ko[no++].slot = p - lo;
+                }
+            }
+            b = a;
+        }
+        rank_ks(ko, D->km, no, ro);
+        for (size_t j = 0; j < no; j++) {
+            uint32_t id = (uint32_t)nv + ro[ko[j].slot], *vs = vsites + 3 * (size_t)id;
+            vs[0] = si;
+            vs[1] = (uint32_t)(ko[j].key >> 32);
+            vs[2] = (uint32_t)ko[j].key;
+            vid[RT(lo + ko[j].slot)] = id;
+        }
+        nv += no;
+        rank_ks(ku, D->km, nu, ru);
+        uint32_t ray_e[2], ray_p[2], nri = 0;
+        for (size_t j = 0; j < nu; j++) {
+            const uint32_t p = lo + ku[j].slot, w = (uint32_t)ku[j].key;
+            const uint32_t e = (uint32_t)ne + ru[ku[j].slot];
+            const uint32_t tl = RT(p), tr = p > lo ? RT(p - 1) : hull ? GHOST_T : RT(hi - 1);
+            const int32_t vl = tl == GHOST_T ? VOR_NONE : (int32_t)vid[tl];
+            const int32_t vr = tr == GHOST_T ? VOR_NONE : (int32_t)vid[tr];
+            esites[2 * (size_t)e] = si;
+            esites[2 * (size_t)e + 1] = w;
+            if (vl >= 0 && vr >= 0) {
+                eends[2 * (size_t)e] = vl < vr ? vl : vr;
+                eends[2 * (size_t)e + 1] = vl < vr ? vr : vl;
+            } else { /* a hull edge */
+                eends[2 * (size_t)e] = vl >= 0 ? vl : vr;
+                eends[2 * (size_t)e + 1] = VOR_NONE;
+                if (nri == 2) return PASS_BROKEN;
+                ray_e[nri] = e;
+                ray_p[nri++] = p;
+            }
+            rx[rx[p]] = e;
+            rx[p] = e;
+        }
+        ne += nu;
+        /* rays, in edge order: each leaves the finite side, away from the
+         * ghost */
+        if (nri == 2 && ray_e[1] < ray_e[0]) {
+            uint32_t x = ray_e[0];
+            ray_e[0] = ray_e[1];
+            ray_e[1] = x;
+            x = ray_p[0];
+            ray_p[0] = ray_p[1];
+            ray_p[1] = x;
+        }
+        for (uint32_t j = 0; j < nri; j++) {
+            const uint32_t p = ray_p[j];
+            const double *pa = sxy + 2 * (size_t)si, *pb = sxy + 2 * (size_t)RW(p);
+            d->ray_edge[nr] = ray_e[j];
+            if (p == lo) /* the ghost is on the right of i -> w */
+                vor_bisector_dir(pb, pa, d->ray_dir + 2 * nr);
+            else
+                vor_bisector_dir(pa, pb, d->ray_dir + 2 * nr);
+            nr++;
+        }
+        d->cell_bounded[i] = !hull;
+    }
+#undef RW
+#undef RT
+    D->nv = nv;
+    D->ne = ne;
+    D->nr = nr;
+    return PASS_OK;
+}
+
+/* Vertex coordinates from their three sites in increasing index order,
+ * as vor__diagram_build computes them: the first site's coordinates are
+ * read in order, the other two prefetched AHEAD vertices early. */
+static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
+    const double *sxy = s->xy;
+    const uint32_t *vs = d->vertex_sites;
+    const size_t nv = d->n_vertices;
+    for (size_t v = 0; v < nv; v++) {
+        if (v + AHEAD < nv) {
+            __builtin_prefetch(sxy + 2 * (size_t)vs[3 * (v + AHEAD) + 1]);
+            __builtin_prefetch(sxy + 2 * (size_t)vs[3 * (v + AHEAD) + 2]);
+        }
+        vor_circumcenter(sxy + 2 * (size_t)vs[3 * v], sxy + 2 * (size_t)vs[3 * v + 1],
+                         sxy + 2 * (size_t)vs[3 * v + 2], d->vertex_xy + 2 * v);
+    }
+}
+
+/* ---- general path: cocircular sites ----------------------------------------
+ * The records cannot express a vertex of four or more sites, so the
+ * diagram is swept straight off the mesh, in site order: for site i the
+ * fan is walked, the vertices it owns (a group counts as one, owned by its
+ * smallest site) and the edges to larger sites (not inside a group) take
+ * the next ids, and its cell is written in place. Edge ids reach the
+ * larger site through adj, as twin positions did in build_records (site
+ * order now: the adj of a half-edge into an already swept site is never
+ * read again). Slower than the records (every fan is a random visit), but
+ * only taken when sites are cocircular. */
+static int sweep_mesh(dual *D) {
+    const size_t n = D->n;
+    int32_t *adj = D->adj;
+    uint32_t *vid = D->vid, *gid = D->gid;
+    const uint32_t *gtrip = D->gtrip, *outl = D->outl;
+    const double *sxy = D->s->xy;
+    vor_diagram *d = D->d;
+    uint32_t *vsites = d->vertex_sites, *esites = d->edge_sites;
+    int32_t *eends = d->edge_ends;
+    size_t nv = 0, ne = 0, nr = 0, nc = 0;
+    uint32_t *rank = D->rank; /* site -> local vertex */
+
+    for (size_t v = 0; v < n; v++) rank[D->order[v]] = (uint32_t)v;
+    for (size_t i = 0; i < n; i++) {
+        const uint32_t si = (uint32_t)i;
+        size_t deg;
+        int r = walk_fan(D, outl[rank[i]], &deg);
+        if (r != PASS_OK) return r;
+        const uint32_t *he = D->he, *wl = D->wl, *ws = D->ws;
+        uint32_t *ed = D->ed;
+        key_slot *ks = D->ks;
+#define VID(t) (vid[t] & GROUP_BIT ? gid[vid[t] & ~GROUP_BIT] : vid[t])
+
+        /* vertices owned by i, in (s1, s2) order */
+        size_t no = 0;
+        for (size_t k = 0; k < deg; k++) {
+            size_t kn = k + 1 < deg ? k + 1 : 0;
+            uint32_t a = ws[k], b = ws[kn], x = vid[he[k] / 3];
+            if (a == VOR__GHOST || b == VOR__GHOST) continue;
+            if (x & GROUP_BIT) {
+                uint32_t g = x & ~GROUP_BIT;
+                if (gtrip[3 * (size_t)g] == si && gid[g] == UNSET) {
+                    gid[g] = PENDING;
+                    ks[no].key = (uint64_t)gtrip[3 * (size_t)g + 1] << 32 |
+                                 gtrip[3 * (size_t)g + 2];
+                    ks[no++].slot = (uint32_t)k;
+                }
+            } else if (a > si && b > si) {
+                ks[no].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+                ks[no++].slot = (uint32_t)k;
+            }
+        }
+        sort_ks(ks, D->kt, no);
+        for (size_t j = 0; j < no; j++) {
+            uint32_t t = he[ks[j].slot] / 3, *vs = vsites + 3 * nv;
+            vs[0] = si;
+            vs[1] = (uint32_t)(ks[j].key >> 32);
+            vs[2] = (uint32_t)ks[j].key;
+            if (vid[t] & GROUP_BIT) gid[vid[t] & ~GROUP_BIT] = (uint32_t)nv;
+            else vid[t] = (uint32_t)nv;
+            nv++;
+        }
+
+        /* edges to larger sites (not inside a group), in site order */
+        size_t nu = 0;
+        for (size_t k = 0; k < deg; k++) {
+            if (ws[k] == VOR__GHOST || ws[k] < si) continue;
+            size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
+            uint32_t x = vid[he[k] / 3];
+            if (wl[kp] != VOR__GHOST && wl[kn] != VOR__GHOST && (x & GROUP_BIT) &&
+                vid[he[kp] / 3] == x) {
+                ed[k] = NO_EDGE;
+                continue;
+            }
+            ks[nu].key = ws[k];
+            ks[nu++].slot = (uint32_t)k;
+        }
+        sort_ks(ks, D->kt, nu);
+        for (size_t j = 0; j < nu; j++) {
+            size_t k = ks[j].slot;
+            size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
+            int32_t vl = wl[kn] == VOR__GHOST ? VOR_NONE : (int32_t)VID(he[k] / 3);
+            int32_t vr = wl[kp] == VOR__GHOST ? VOR_NONE : (int32_t)VID(he[kp] / 3);
+            esites[2 * ne] = si;
+            esites[2 * ne + 1] = ws[k];
+            if (vl >= 0 && vr >= 0) {
+                eends[2 * ne] = vl < vr ? vl : vr;
+                eends[2 * ne + 1] = vl < vr ? vr : vl;
+            } else {
+                const double *pa = sxy + 2 * (size_t)si, *pb = sxy + 2 * (size_t)ws[k];
+                eends[2 * ne] = vl >= 0 ? vl : vr;
+                eends[2 * ne + 1] = VOR_NONE;
+                d->ray_edge[nr] = (uint32_t)ne;
+                if (vr < 0)
+                    vor_bisector_dir(pb, pa, d->ray_dir + 2 * nr);
+                else
+                    vor_bisector_dir(pa, pb, d->ray_dir + 2 * nr);
+                nr++;
+            }
+            ed[k] = (uint32_t)ne++;
+        }
+#undef VID
+
+        /* edge ids to smaller sites, from their stash; stash ours */
+        size_t ghost = deg;
+        for (size_t k = 0; k < deg; k++) {
+            if (ws[k] == VOR__GHOST)
+                ghost = k;
+            else if (ws[k] < si)
+                ed[k] = (uint32_t)adj[he[k]];
+            else
+                adj[adj[he[k]]] = (int32_t)ed[k];
+        }
+
+        /* the cell: after the ghost, or from the smallest edge id */
+        size_t start = 0;
+        if (ghost < deg) {
+            start = ghost + 1 == deg ? 0 : ghost + 1;
+        } else {
+            uint32_t best = UINT32_MAX;
+            for (size_t k = 0; k < deg; k++)
+                if (ed[k] < best) {
+                    best = ed[k];
+                    start = k;
+                }
+        }
+        d->cell_start[i] = (uint32_t)nc;
+        d->cell_bounded[i] = ghost == deg;
+        for (size_t j = 0, k = start; j < deg; j++) {
+            if (ws[k] != VOR__GHOST && ed[k] != NO_EDGE)
+                d->cell_edges[nc++] = ed[k];
+            k = k + 1 == deg ? 0 : k + 1;
+        }
+    }
+    d->cell_start[n] = (uint32_t)nc;
+    D->nv = nv;
+    D->ne = ne;
+    D->nr = nr;
+    return PASS_OK;
+}
+
+/* Puts back the adj entries build_records overwrote: each pair of twins
+ * has one half-edge from the earlier to the later visited vertex, whose
+ * adj was never touched. */
+static void restore_adj(dual *D) {
+    const uint32_t *tri = D->tri;
+    int32_t *adj = D->adj;
+    for (size_t e = 0; e < 3 * D->T; e++) {
+        uint32_t a = tri[e], b = tri[vor__next((uint32_t)e)];
+        if (a == VOR__GHOST || b == VOR__GHOST) continue;
+        if (a < b) adj[adj[e]] = (int32_t)e;
+    }
+}
+
+static uint32_t uf_find(uint32_t *uf, uint32_t x) {
+    while (uf[x] != x) {
+        uf[x] = uf[uf[x]];
+        x = uf[x];
+    }
+    return x;
+}
+
+/* Adds site x to the increasing triple t (UNSET marks free slots), keeping
+ * the three smallest distinct values. */
+static void insert3(uint32_t *t, uint32_t x) {
+    if (x == t[0] || x == t[1] || x == t[2]) return;
+    if (x < t[0]) {
+        t[2] = t[1];
+        t[1] = t[0];
+        t[0] = x;
+    } else if (x < t[1]) {
+        t[2] = t[1];
+        t[1] = x;
+    } else if (x < t[2]) {
+        t[2] = x;
+    }
+}
+
+/* Merges triangles that share a circumcircle (exact incircle == 0 across
+ * an edge) and leaves in vid: GROUP_BIT | g for the triangles of group g,
+ * 0 for the others. Fills gtrip, gid. PASS_OK, PASS_NOMEM or PASS_BROKEN
+ * (an edge is not locally Delaunay). */
+static int find_groups(dual *D) {
+    const size_t T = D->T;
+    const uint32_t *tri = D->tri, *order = D->order;
+    const int32_t *adj = D->adj;
+    const double *lxy = D->lxy;
+    uint32_t *uf = D->vid;
+    for (size_t t = 0; t < T; t++) uf[t] = (uint32_t)t;
+    for (size_t t = 0; t < T; t++) {
+        if (vor__mesh_is_ghost(tri, (uint32_t)t)) continue;
+        const uint32_t *v = tri + 3 * t;
+        for (uint32_t k = 0; k < 3; k++) {
+            uint32_t e = 3 * (uint32_t)t + k, f = (uint32_t)adj[e];
+            if (f < e || vor__mesh_is_ghost(tri, f / 3)) continue;
+            int ic = vor__incircle_fast(XY(v[0]), XY(v[1]), XY(v[2]),
+                                        XY(tri[vor__prev(f)]));
+            if (ic > 0) return PASS_BROKEN;
+            if (ic == 0) {
+                uint32_t a = uf_find(uf, (uint32_t)t), b = uf_find(uf, f / 3);
+                if (a < b) uf[b] = a;
+                else if (b < a) uf[a] = b;
+            }
+        }
+    }
+    /* roots are the smallest triangle of their group: mark those with
+     * members, then number the groups in slot order */
+    for (size_t t = 0; t < T; t++) uf[t] = uf_find(uf, (uint32_t)t);
+    for (size_t t = 0; t < T; t++) {
+        uint32_t r = uf[t] & ~GROUP_BIT;
+        if (r != t) uf[r] |= GROUP_BIT;
+    }
+    size_t ng = 0;
+    for (size_t t = 0; t < T; t++) {
+        uint32_t x = uf[t];
+        if (x & GROUP_BIT) uf[t] = GROUP_BIT | (uint32_t)ng++;
+        else if (x == t) uf[t] = 0;
+        else uf[t] = uf[x];
+    }
+    D->gtrip = xmalloc(3 * ng, sizeof *D->gtrip);
+    D->gid = xmalloc(ng, sizeof *D->gid);
+    if (!D->gtrip || !D->gid) return PASS_NOMEM;
+    for (size_t g = 0; g < ng; g++) {
+        D->gid[g] = UNSET;
+        D->gtrip[3 * g] = D->gtrip[3 * g + 1] = D->gtrip[3 * g + 2] = UNSET;
+    }
+    for (size_t t = 0; t < T; t++) {
+        if (!(uf[t] & GROUP_BIT)) continue;
+        uint32_t *g = D->gtrip + 3 * (size_t)(uf[t] & ~GROUP_BIT);
+        for (int k = 0; k < 3; k++) insert3(g, order[tri[3 * t + k]]);
+    }
+    return PASS_OK;
+}
+
+/* ---- driver -------------------------------------------------------------- */
+
+/* Gives back the unused tail of an array (keeps it when realloc fails). */
+static void *shrink(void *p, size_t count, size_t size) {
+    void *q = realloc(p, (count ? count : 1) * size);
+    return q ? q : p;
+}
+
+/* Counts, per site, its finite neighbours (into cell_start, then made
+ * offsets), finds a half-edge out of every vertex and counts the ghosts.
+ * One pass over the triangles, one over the sites. */
+static int count(dual *D) {
+    const size_t n = D->n, T = D->T;
+    const uint32_t *tri = D->tri, *order = D->order;
+    uint32_t *cs = D->d->cell_start;
+    uint32_t *deg = calloc(n ? n : 1, sizeof *deg); /* per local vertex */
+    if (!deg) return PASS_NOMEM;
+    size_t h = 0;
+    for (size_t t = 0; t < T; t++) {
+        const uint32_t *v = tri + 3 * t;
+        h += v[0] == VOR__GHOST || v[1] == VOR__GHOST || v[2] == VOR__GHOST;
+        for (uint32_t k = 0; k < 3; k++) {
+            uint32_t a = v[k], b = v[k == 2 ? 0 : k + 1];
+            if (a == VOR__GHOST) continue;
+            D->outl[a] = 3 * (uint32_t)t + k;
+            deg[a] += b != VOR__GHOST;
+        }
+    }
+    D->h = h;
+    for (size_t v = 0; v < n; v++) cs[order[v]] = deg[v];
+    free(deg);
+    size_t nc = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t k = cs[i];
+        cs[i] = (uint32_t)nc;
+        nc += k;
+    }
+    cs[n] = (uint32_t)nc;
+    return PASS_OK;
+}
+
+static vor_status status_of(int r) {
+    assert(r != PASS_BROKEN && "vor__mesh_dual: the mesh is broken");
+    return r == PASS_NOMEM ? VOR_ENOMEM : VOR_EINVAL;
+}
+
+/* The output arrays sized for nv vertices, ne edges, nr rays (cell_start
+ * and cell_edges are allocated by the caller). */
+static int alloc_result(dual *D, size_t nv, size_t ne, size_t nr) {
+    vor_diagram *d = D->d;
+    d->vertex_sites = xmalloc(3 * nv, sizeof *d->vertex_sites);
+    d->edge_sites = xmalloc(2 * ne, sizeof *d->edge_sites);
+    d->edge_ends = xmalloc(2 * ne, sizeof *d->edge_ends);
+    d->ray_edge = xmalloc(nr, sizeof *d->ray_edge);
+    d->ray_dir = xmalloc(2 * nr, sizeof *d->ray_dir);
+    d->cell_bounded = xmalloc(D->n, 1);
+    return d->vertex_sites && d->edge_sites && d->edge_ends && d->ray_edge &&
+                   d->ray_dir && d->cell_bounded
+               ? PASS_OK
+               : PASS_NOMEM;
+}
+
+vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
+                          uint32_t *order, vor_diagram **out) {
+    dual D;
+    memset(&D, 0, sizeof D);
+    vor_status st = VOR_ENOMEM;
+    int r;
+    *out = NULL;
+    const size_t n = s->n, T = m->n_tri;
+    D.s = s;
+    D.n = n;
+    D.T = T;
+    D.tri = m->tri;
+    D.adj = m->adj;
+    D.lxy = lxy;
+    D.order = order;
+
+    vor_diagram *d = D.d = calloc(1, sizeof *d);
+    D.outl = xmalloc(n, sizeof *D.outl);
+    if (!d || !D.outl || reserve(&D, 64)) goto done;
+    d->n_sites = n;
+    d->cell_start = xmalloc(n + 1, sizeof *d->cell_start);
+    if (!d->cell_start || count(&D) != PASS_OK) goto done;
+    const size_t nc = d->cell_start[n];
+    /* without cocircular sites: a vertex per finite triangle, an edge per
+     * pair of finite twins, a ray per hull edge */
+    const size_t nvmax = T - D.h, nemax = nc / 2, nrmax = D.h;
+
+    d->cell_edges = xmalloc(nc, sizeof *d->cell_edges);
+    D.rwt = xmalloc(nc, sizeof *D.rwt);
+    if (!d->cell_edges || !D.rwt) goto done;
+    r = build_records(&D);
+    if (r == PASS_OK) {
+        /* the mesh is no longer needed */
+        vor__mesh_clear(m);
+        D.tri = NULL;
+        D.adj = NULL;
+        free(lxy);
+        lxy = NULL;
+        free(D.outl);
+        D.outl = NULL;
+        D.vid = xmalloc(T, sizeof *D.vid);
+        if (!D.vid || alloc_result(&D, nvmax, nemax, nrmax) != PASS_OK) goto done;
+        r = sweep_records(&D);
+        assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
+    } else if (r == PASS_COCIRCULAR) {
+        restore_adj(&D);
+        free(D.rwt);
+        D.rwt = NULL;
+        D.vid = xmalloc(T, sizeof *D.vid);
+        D.rank = xmalloc(n, sizeof *D.rank);
+        if (!D.vid || !D.rank || alloc_result(&D, nvmax, nemax, nrmax) != PASS_OK) goto done;
+        r = find_groups(&D);
+        free(lxy); /* the last use of the coordinates */
+        lxy = NULL;
+        D.lxy = NULL;
+        if (r == PASS_OK) r = sweep_mesh(&D);
+        if (r == PASS_OK) {
+            d->vertex_sites = shrink(d->vertex_sites, 3 * D.nv, sizeof *d->vertex_sites);
+            d->edge_sites = shrink(d->edge_sites, 2 * D.ne, sizeof *d->edge_sites);
+            d->edge_ends = shrink(d->edge_ends, 2 * D.ne, sizeof *d->edge_ends);
+            d->cell_edges = shrink(d->cell_edges, 2 * D.ne, sizeof *d->cell_edges);
+        }
+    }
+    if (r != PASS_OK) {
+        st = status_of(r);
+        goto done;
+    }
+    free(D.rwt);
+    free(D.vid);
+    D.rwt = NULL;
+    D.vid = NULL;
+    vor__mesh_clear(m);
+    free(lxy);
+    lxy = NULL;
+    d->n_vertices = D.nv;
+    d->n_edges = D.ne;
+    d->n_rays = D.nr;
+    d->vertex_xy = xmalloc(2 * D.nv, sizeof *d->vertex_xy);
+    if (!d->vertex_xy) goto done;
+    vertex_coordinates(s, d);
+    *out = d;
+    D.d = NULL;
+    st = VOR_OK;
+
+done:
+    vor_diagram_free(D.d);
+    free(D.outl);
+    free(D.rwt);
+    free(D.vid);
+    free(D.rank);
+    free(D.gtrip);
+    free(D.gid);
+    free(D.he);
+    free(D.wl);
+    free(D.ws);
+    free(D.ed);
+    free(D.ks);
+    free(D.kt);
+    free(D.km);
+    vor__mesh_clear(m);
+    free(lxy);
+    free(order);
+    return st;
+}
+
+vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
+                             vor_diagram **out) {
+    vor__mesh m = {0};
+    double *lxy = NULL;
+    *out = NULL;
+    if (s->n < 3)
+        return VOR_EINVAL;
+    uint32_t *order = malloc(s->n * sizeof *order);
+    if (!order)
+        return VOR_ENOMEM;
+    vor_status r = vor__insertion_order(s->xy, s->n, order);
+    if (r == VOR_OK)
+        r = build(s, order, &m, &lxy);
+    if (r != VOR_OK) {
+        free(order);
+        return r;
+    }
+    return vor__mesh_dual(s, &m, lxy, order, out);
+}

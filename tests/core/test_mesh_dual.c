@@ -1,0 +1,265 @@
+/* test_mesh_dual.c -- the diagram read straight off the construction's mesh
+ * (core/mesh_dual.c), the path vor__bowyer_watson and vor__flip take.
+ *
+ * Oracle: the generic builder. The same algorithm's finished mesh
+ * (vor__bowyer_watson_mesh / vor__flip_mesh) converted by
+ * vor__mesh_to_diagram, which goes through vor__diagram_build, must give a
+ * bit-identical diagram, and vor_check must accept it. Sets: every standard
+ * set, random uniform, gaussian and clustered sets of many sizes, sets with
+ * a cocircular square that the sweep meets late or early (the fallback
+ * that restores the mesh and merges cocircular triangles), fans of more
+ * sites than the walks and small sorts handle inline, and every allocation
+ * failing in turn on both paths. Seeds are fixed and printed.
+ */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <cmocka.h>
+
+#include "../../core/mesh.h"
+#include "../support/testsets.h"
+#include "fault_alloc.h"
+
+typedef struct algo {
+    const char *name;
+    vor_status (*diagram)(const vor_sites *s, vor_diagram **out);
+    vor_status (*mesh)(const vor_sites *s, vor__mesh *m);
+} algo;
+
+static const algo algos[] = {
+    {"bowyer-watson", vor__bowyer_watson, vor__bowyer_watson_mesh},
+    {"flip", vor__flip, vor__flip_mesh},
+};
+
+static vor_sites *sites_of(const double *xy, size_t n) {
+    vor_sites *s = NULL;
+    assert_int_equal(vor_sites_new(xy, n, &s, NULL), VOR_OK);
+    assert_non_null(s);
+    return s;
+}
+
+/* The largest cell. */
+static size_t max_degree(const vor_diagram *d) {
+    size_t m = 0;
+    for (size_t i = 0; i < d->n_sites; i++) {
+        size_t k = d->cell_start[i + 1] - d->cell_start[i];
+        if (k > m) m = k;
+    }
+    return m;
+}
+
+/* Both algorithms: the fast path equals the generic builder's diagram of
+ * the same mesh, bit for bit, and passes vor_check (up to check_max
+ * sites). Returns the diagram of the last algorithm (free it) when keep. */
+static vor_diagram *expect_same(const vor_sites *s, const char *what,
+                                size_t check_max, int keep) {
+    vor_diagram *last = NULL;
+    for (size_t a = 0; a < sizeof algos / sizeof *algos; a++) {
+        vor_diagram *fast = NULL, *ref = NULL;
+        vor__mesh m = {0};
+        vor_status st = algos[a].diagram(s, &fast);
+        if (st != VOR_OK) {
+            print_error("%s, %s: %s\n", what, algos[a].name, vor_status_name(st));
+            fail();
+        }
+        assert_int_equal(algos[a].mesh(s, &m), VOR_OK);
+        assert_int_equal(vor__mesh_to_diagram(s, &m, &ref), VOR_OK);
+        if (!vor_diagram_equal(fast, ref)) {
+            print_error("%s, %s: differs from the generic builder "
+                        "(%zu/%zu vertices, %zu/%zu edges)\n",
+                        what, algos[a].name, fast->n_vertices, ref->n_vertices,
+                        fast->n_edges, ref->n_edges);
+            fail();
+        }
+        char msg[256] = "";
+        if (s->n <= check_max && vor_check(fast, s, msg, sizeof msg)) {
+            print_error("%s, %s: vor_check: %s\n", what, algos[a].name, msg);
+            fail();
+        }
+        vor_diagram_free(ref);
+        vor_diagram_free(last);
+        last = fast;
+    }
+    if (!keep) {
+        vor_diagram_free(last);
+        last = NULL;
+    }
+    return last;
+}
+
+static void test_standard_sets(void **state) {
+    (void)state;
+    size_t ran = 0;
+    for (size_t i = 0; i < vt_count(); i++) {
+        vt_set set;
+        assert_int_equal(vt_make(i, &set), 0);
+        vor_sites *s = sites_of(set.xy, set.n);
+        if (!vor__all_collinear(s)) {
+            expect_same(s, set.name, 5000, 0);
+            ran++;
+        }
+        vor_sites_free(s);
+        vt_set_free(&set);
+    }
+    printf("  %zu standard sets (the collinear ones never reach a mesh)\n", ran);
+    assert_true(ran >= 10);
+}
+
+static void test_random_sets(void **state) {
+    (void)state;
+    static const size_t sizes[] = {3, 4, 5, 7, 10, 31, 64, 100, 333, 1000, 4096, 20000};
+    const uint64_t seed0 = 4242;
+    printf("  seeds %llu..%llu\n", (unsigned long long)seed0,
+           (unsigned long long)seed0 + 3 * (sizeof sizes / sizeof *sizes) - 1);
+    uint64_t seed = seed0;
+    for (size_t k = 0; k < sizeof sizes / sizeof *sizes; k++) {
+        for (int dist = 0; dist < 3; dist++, seed++) {
+            size_t n = sizes[k];
+            double *xy = dist == 0 ? vt_uniform(n, seed)
+                         : dist == 1 ? vt_gaussian(n, seed)
+                                     : vt_clusters(n, 1 + n / 50, seed);
+            assert_non_null(xy);
+            vor_sites *s = sites_of(xy, n);
+            free(xy);
+            char what[64];
+            snprintf(what, sizeof what, "%s n=%zu seed=%llu",
+                     dist == 0 ? "uniform" : dist == 1 ? "gaussian" : "clusters", n,
+                     (unsigned long long)seed);
+            if (!vor__all_collinear(s)) expect_same(s, what, 5000, 0);
+            vor_sites_free(s);
+        }
+    }
+}
+
+/* A unit square far from the uniform points is one Voronoi vertex of four
+ * sites, so the sweep must fall back; where it meets the square (late or
+ * early) depends on the insertion order, so many seeds and both ends of
+ * the site order are tried. Integer pixels (many cocircular quadruples,
+ * duplicates) and a grid complete the fallback's sets. */
+static void test_cocircular(void **state) {
+    (void)state;
+    const uint64_t seed0 = 777;
+    printf("  seeds %llu..%llu\n", (unsigned long long)seed0,
+           (unsigned long long)seed0 + 11);
+    static const double sq[] = {10, 10, 11, 10, 11, 11, 10, 11};
+    for (uint64_t seed = seed0; seed < seed0 + 12; seed++) {
+        size_t n = 500 + 300 * (size_t)(seed - seed0);
+        double *u = vt_uniform(n, seed);
+        double *xy = malloc((n + 4) * 2 * sizeof *xy);
+        assert_non_null(u);
+        assert_non_null(xy);
+        int first = seed % 2;
+        memcpy(xy + (first ? 8 : 0), u, 2 * n * sizeof *xy);
+        memcpy(xy + (first ? 0 : 2 * n), sq, sizeof sq);
+        free(u);
+        vor_sites *s = sites_of(xy, n + 4);
+        free(xy);
+        char what[64];
+        snprintf(what, sizeof what, "uniform n=%zu seed=%llu + square %s", n,
+                 (unsigned long long)seed, first ? "first" : "last");
+        vor_diagram *d = expect_same(s, what, 5000, 1);
+        /* the square's centre is one vertex, its four sites' first three */
+        uint32_t a = first ? 0 : (uint32_t)n;
+        size_t found = 0;
+        for (size_t v = 0; v < d->n_vertices; v++)
+            found += d->vertex_sites[3 * v] == a && d->vertex_sites[3 * v + 1] == a + 1 &&
+                     d->vertex_sites[3 * v + 2] == a + 2;
+        assert_int_equal(found, 1);
+        vor_diagram_free(d);
+        vor_sites_free(s);
+    }
+    double *px = vt_pixels(20000, 5);
+    vor_sites *s = sites_of(px, 20000);
+    free(px);
+    expect_same(s, "pixels n=20000 seed=5", 0, 0);
+    vor_sites_free(s);
+    double *g = vt_grid(60, 50);
+    s = sites_of(g, 3000);
+    free(g);
+    expect_same(s, "grid 60x50", 3000, 0);
+    vor_sites_free(s);
+}
+
+/* A site with more neighbours than the block walk and the small sorts
+ * take: the centre of n points on a circle whose radii are perturbed (by
+ * at most 1e-6, far below the (2 pi / n)^2 / 2 that would unseat the fan),
+ * so that nothing is cocircular and the fast path runs. */
+static void test_high_degree(void **state) {
+    (void)state;
+    static const size_t ns[] = {30, 100, 1000};
+    for (size_t k = 0; k < sizeof ns / sizeof *ns; k++) {
+        size_t n = ns[k];
+        double *xy = malloc((n + 1) * 2 * sizeof *xy);
+        assert_non_null(xy);
+        vt_rng r = {99 + n};
+        xy[0] = 0;
+        xy[1] = 0;
+        for (size_t i = 0; i < n; i++) {
+            double t = 2 * 3.14159265358979323846 * (double)i / (double)n;
+            double rad = 1 + 1e-6 * vt_unit(&r);
+            xy[2 * i + 2] = rad * cos(t);
+            xy[2 * i + 3] = rad * sin(t);
+        }
+        vor_sites *s = sites_of(xy, n + 1);
+        free(xy);
+        char what[64];
+        snprintf(what, sizeof what, "fan of %zu, seed %zu", n, 99 + n);
+        vor_diagram *d = expect_same(s, what, 5000, 1);
+        assert_int_equal(max_degree(d), n);
+        assert_int_equal(d->cell_start[1] - d->cell_start[0], n); /* the centre */
+        vor_diagram_free(d);
+        vor_sites_free(s);
+    }
+}
+
+/* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
+ * the fast path and on the cocircular fallback: VOR_ENOMEM, *out NULL,
+ * nothing leaks (LeakSanitizer at exit); then the call succeeds. */
+static void test_allocation_failures(void **state) {
+    (void)state;
+    double *u = vt_uniform(300, 3);
+    double *g = vt_grid(12, 9);
+    vor_sites *sets[2] = {sites_of(u, 300), sites_of(g, 108)};
+    free(u);
+    free(g);
+    for (size_t a = 0; a < sizeof algos / sizeof *algos; a++) {
+        for (int k = 0; k < 2; k++) {
+            long i;
+            for (i = 0;; i++) {
+                vor_diagram *d = (vor_diagram *)1;
+                fault_arm(i);
+                vor_status st = algos[a].diagram(sets[k], &d);
+                fault_disarm();
+                if (st == VOR_OK) {
+                    char msg[128] = "";
+                    assert_int_equal(vor_check(d, sets[k], msg, sizeof msg), 0);
+                    vor_diagram_free(d);
+                    break;
+                }
+                assert_int_equal(st, VOR_ENOMEM);
+                assert_null(d);
+            }
+            printf("  %s, %s: %ld allocations failed in turn\n", algos[a].name,
+                   k ? "grid (fallback)" : "uniform", i);
+            assert_true(i >= 12);
+        }
+    }
+    vor_sites_free(sets[0]);
+    vor_sites_free(sets[1]);
+}
+
+int main(void) {
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_standard_sets),
+        cmocka_unit_test(test_random_sets),
+        cmocka_unit_test(test_cocircular),
+        cmocka_unit_test(test_high_degree),
+        cmocka_unit_test(test_allocation_failures),
+    };
+    return cmocka_run_group_tests_name("core/mesh_dual", tests, NULL, NULL);
+}
