@@ -21,9 +21,11 @@
  */
 #include <assert.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include "mesh.h"
 
@@ -38,6 +40,25 @@ void vor__mesh_clear(vor__mesh *m) {
     m->adj = NULL;
     m->n_tri = 0;
     m->cap_tri = 0;
+}
+
+void *vor__alloc_large(size_t count, size_t size) {
+    if (count == 0)
+        count = 1;
+    if (count > SIZE_MAX / size)
+        return NULL;
+    size_t bytes = count * size;
+    void *p = malloc(bytes);
+#if defined(MADV_HUGEPAGE)
+    const uintptr_t huge = (uintptr_t)1 << 21;
+    if (p && bytes >= 2 * huge) {
+        uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1);
+        uintptr_t hi = ((uintptr_t)p + bytes) & ~(huge - 1);
+        if (hi > lo)
+            (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
+    }
+#endif
+    return p;
 }
 
 /* ---- Start ---------------------------------------------------------------
@@ -74,9 +95,9 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     uint32_t c = order[k];
     order[k] = order[2];
     order[2] = c;
-    double *local = malloc(2 * n * sizeof *local);
-    m->tri = malloc(3 * cap * sizeof *m->tri);
-    m->adj = malloc(3 * cap * sizeof *m->adj);
+    double *local = vor__alloc_large(2 * n, sizeof *local);
+    m->tri = vor__alloc_large(3 * cap, sizeof *m->tri);
+    m->adj = vor__alloc_large(3 * cap, sizeof *m->adj);
     if (!local || !m->tri || !m->adj) {
         free(local);
         vor__mesh_clear(m);

@@ -129,9 +129,7 @@ typedef struct dual {
 } dual;
 
 static void *xmalloc(size_t count, size_t size) {
-    if (count == 0) count = 1;
-    if (count > SIZE_MAX / size) return NULL;
-    return malloc(count * size);
+    return vor__alloc_large(count, size);
 }
 
 /* Grows the fan scratch to at least k slots (doubling, at least 64). -1
@@ -177,32 +175,6 @@ static void sort_ks(key_slot *a, key_slot *tmp, size_t k) {
         }
         memcpy(a, tmp, k * sizeof *a);
     }
-}
-
-/* rank[ks[j].slot] = the position of ks[j] among ks[0..m-1] in key order
- * (keys are distinct): by counting for short lists (no branches on the
- * keys), else by sorting ks through tmp. */
-static void rank_ks(key_slot *ks, key_slot *tmp, size_t m, uint32_t *rank) {
-    if (m <= 2) {
-        if (m == 2) {
-            uint32_t x = ks[1].key < ks[0].key;
-            rank[ks[0].slot] = x;
-            rank[ks[1].slot] = x ^ 1;
-        } else if (m == 1) {
-            rank[ks[0].slot] = 0;
-        }
-        return;
-    }
-    if (m <= SMALL_SORT) {
-        for (size_t j = 0; j < m; j++) {
-            uint32_t r = 0;
-            for (size_t k = 0; k < m; k++) r += ks[k].key < ks[j].key;
-            rank[ks[j].slot] = r;
-        }
-        return;
-    }
-    sort_ks(ks, tmp, m);
-    for (size_t j = 0; j < m; j++) rank[ks[j].slot] = (uint32_t)j;
 }
 
 /* Records the fan of the vertex that half-edge e0 leaves, counter-
@@ -320,21 +292,23 @@ static int build_records(dual *D) {
         }
         if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;
 
-        /* the record, in cell order; twins meet through adj */
+        /* the record, in cell order. Twins meet through adj: x is either
+         * the slot the neighbour left (visited earlier), then both slots
+         * are linked, or the twin half-edge, whose adj gets our slot (the
+         * slot itself is linked by the neighbour). Without branches on
+         * which: it is as good as random. */
         uint32_t p = cs[order[v]];
         for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
             if (k == ghost) continue;
-            size_t kn = k + 1 < deg ? k + 1 : 0;
-            rwt[p] = (uint64_t)ws[k] << 32 | (wl[kn] == VOR__GHOST ? GHOST_T : he[k] / 3);
-            if (wl[k] < v) {
-                uint32_t q = (uint32_t)adj[he[k]];
-                rx[p] = q;
-                rx[q] = p;
-            } else {
-                adj[adj[he[k]]] = (int32_t)p;
-            }
+            const uint32_t x = (uint32_t)adj[he[k]];
+            uint32_t *to = wl[k] < v ? rx : (uint32_t *)adj;
+            rwt[p] = (uint64_t)ws[k] << 32 | he[k] / 3;
+            rx[p] = x;
+            to[x] = p;
             p++;
         }
+        if (ghost < deg) /* the last slot's left triangle is a ghost */
+            rwt[p - 1] |= GHOST_T;
     }
     return PASS_OK;
 }
@@ -357,9 +331,8 @@ static int sweep_records(dual *D) {
     for (size_t i = 0; i < n; i++) {
         const uint32_t si = (uint32_t)i, lo = cs[i], hi = cs[i + 1];
         if (hi - lo < 2) return PASS_BROKEN;
-        if (reserve(D, hi - lo)) return PASS_NOMEM;
+        if (hi - lo > D->cap && reserve(D, hi - lo)) return PASS_NOMEM;
         key_slot *ko = D->ks, *ku = D->kt;
-        uint32_t *ro = D->ed, *ru = D->he;
         if (i + SWEEP_AHEAD < n) { /* vid and the twins, a few sites on */
             const uint32_t ia = (uint32_t)(i + SWEEP_AHEAD);
             for (uint32_t p = cs[ia]; p < cs[ia + 1]; p++) {
@@ -385,20 +358,31 @@ static int sweep_records(dual *D) {
             }
             b = a;
         }
-        rank_ks(ko, D->km, no, ro);
+        /* ids by rank: counted for the usual few, sorted for many */
+        if (no > SMALL_SORT) sort_ks(ko, D->km, no);
         for (size_t j = 0; j < no; j++) {
-            uint32_t id = (uint32_t)nv + ro[ko[j].slot], *vs = vsites + 3 * (size_t)id;
+            uint32_t r = (uint32_t)j;
+            if (no <= SMALL_SORT) {
+                r = 0;
+                for (size_t k = 0; k < no; k++) r += ko[k].key < ko[j].key;
+            }
+            uint32_t id = (uint32_t)nv + r, *vs = vsites + 3 * (size_t)id;
             vs[0] = si;
             vs[1] = (uint32_t)(ko[j].key >> 32);
             vs[2] = (uint32_t)ko[j].key;
             vid[RT(lo + ko[j].slot)] = id;
         }
         nv += no;
-        rank_ks(ku, D->km, nu, ru);
+        if (nu > SMALL_SORT) sort_ks(ku, D->km, nu);
         uint32_t ray_e[2], ray_p[2], nri = 0;
         for (size_t j = 0; j < nu; j++) {
             const uint32_t p = lo + ku[j].slot, w = (uint32_t)ku[j].key;
-            const uint32_t e = (uint32_t)ne + ru[ku[j].slot];
+            uint32_t r = (uint32_t)j;
+            if (nu <= SMALL_SORT) {
+                r = 0;
+                for (size_t k = 0; k < nu; k++) r += ku[k].key < w;
+            }
+            const uint32_t e = (uint32_t)ne + r;
             const uint32_t tl = RT(p), tr = p > lo ? RT(p - 1) : hull ? GHOST_T : RT(hi - 1);
             const int32_t vl = tl == GHOST_T ? VOR_NONE : (int32_t)vid[tl];
             const int32_t vr = tr == GHOST_T ? VOR_NONE : (int32_t)vid[tr];
