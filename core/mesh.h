@@ -104,10 +104,10 @@ typedef vor_status (*vor__mesh_build_fn)(const vor_sites *s, uint32_t *order,
 /* The canonical Voronoi diagram read straight off a ghost-closed mesh, as
  * a vor__mesh_build_fn leaves it: vertex v is site order[v], at lxy[2v]
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
- * mesh, and to vor__diagram_build. Consumes m (cleared), lxy and order
- * (freed), also on error; on error *out is NULL. O(n) for sites of bounded
- * degree, about 14 bytes per site of memory besides the mesh and the
- * result. */
+ * mesh, which it falls back to when sites are cocircular. Consumes m
+ * (cleared), lxy and order (freed), also on error; on error *out is NULL.
+ * O(n) for sites of bounded degree; at its peak about 157 bytes per site,
+ * the result included (mesh_dual.c). */
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
                           uint32_t *order, vor_diagram **out);
 

@@ -50,22 +50,25 @@
  *
  * Cocircular sites. A vertex of four or more sites is one circle, which
  * the per-triangle records cannot express, so the first exactly
- * cocircular edge ends the fast path. The adj entries stashed so far are
+ * cocircular edge ends the fast path: the adj entries stashed so far are
  * restored (each pair of twins has one half-edge from the earlier to the
- * later visited vertex whose adj was never touched), triangles across
- * cocircular edges are merged into groups by a union-find pass, each
- * group's three smallest sites are found, and the diagram is swept
- * straight off the mesh in site order (sweep_mesh): slower, every fan a
- * random visit, but only taken for such input.
+ * later visited vertex, whose adj was never touched), the mesh is
+ * finished, and vor__mesh_to_diagram merges the triangles that share a
+ * circle and builds the diagram through vor__diagram_build. Input with
+ * cocircular sites (grids, integer pixels) therefore costs what it did
+ * before this path existed, plus the records pass up to the first such
+ * edge (usually a few sites).
  *
  * Cost: O(n) passes for sites of bounded degree, O(k log k) for a site of
- * degree k; about 0.6 s for 10^6 uniform sites on the development machine
- * under load, against 1.1 to 1.4 s for vor__mesh_to_diagram. Memory at the
- * peak: the mesh (48 bytes per site) with its coordinates (16), order (4),
- * outl (4), cell_start (4) and the records (12 per slot, about 72), then,
- * the mesh freed, the records with vid (8) and the result without its
- * coordinates (about 101); the coordinates (32) come last, when everything
- * else is freed.
+ * degree k. At 10^6 uniform sites (2 cores, shared and loaded, CPU time):
+ * count 16 ms, records 200, sweep 125, coordinates 30 -- about 0.37 s,
+ * against 1.1 to 1.4 s for vor__mesh_to_diagram. Memory: the mesh (48
+ * bytes per site) with its coordinates (16), order (4), outl (4),
+ * cell_start (4) and the records (12 per slot, 72); then, the mesh, its
+ * coordinates and order freed, the records, vid (8) and the result
+ * without its coordinates (about 101), which come last when everything
+ * else is freed: 157 bytes per site at the peak, plus what the allocator
+ * keeps.
  */
 #include <assert.h>
 #include <stdlib.h>
@@ -78,13 +81,6 @@
 /* Low word of a record slot whose left triangle is a ghost (the last slot
  * of a hull site's record); otherwise it is a triangle id. */
 #define GHOST_T UINT32_MAX
-/* vid[t] of a triangle in a cocircular group: GROUP_BIT | group index. */
-#define GROUP_BIT 0x80000000u
-/* Stashed in adj for a pair of sites whose Delaunay edge lies inside a
- * group (no Voronoi edge). */
-#define NO_EDGE INT32_MAX
-#define UNSET UINT32_MAX
-#define PENDING (UINT32_MAX - 1)
 /* Lists of up to this many keys are ranked by counting or sorted by
  * insertion. */
 #define SMALL_SORT 24
@@ -94,7 +90,7 @@
  * walked that way (a longer one is walked again, alone). */
 #define BLOCK 32
 #define BLOCK_FAN 24
-_Static_assert(BLOCK_FAN < 64 && BLOCK_FAN < 256, "fans of the block walk fit the scratch");
+_Static_assert(BLOCK_FAN < 64, "a block walk's fan fits the first scratch");
 /* How many sites ahead the sweep prefetches vid and the twin slots. */
 #define SWEEP_AHEAD 8
 
@@ -116,11 +112,9 @@ typedef struct dual {
     const uint32_t *order;
     uint32_t *outl; /* n: a half-edge out of each local vertex */
     uint64_t *rwt;  /* per record slot: neighbour site << 32 | left triangle */
-    uint32_t *vid;  /* T: vertex id, or GROUP_BIT | group */
-    uint32_t *rank; /* general path: site -> local vertex */
-    uint32_t *gtrip, *gid; /* per group: three smallest sites; vertex id */
+    uint32_t *vid;  /* T: vertex id of each (finite) triangle */
     /* scratch for one fan, cap slots */
-    uint32_t *he, *wl, *ws, *ed;
+    uint32_t *he, *wl, *ws;
     key_slot *ks, *kt, *km;
     size_t cap;
     /* the result being written, and how far */
@@ -128,6 +122,7 @@ typedef struct dual {
     size_t nv, ne, nr;
 } dual;
 
+/* Every array here is big enough to want huge pages (mesh.h). */
 static void *xmalloc(size_t count, size_t size) {
     return vor__alloc_large(count, size);
 }
@@ -142,7 +137,7 @@ static int reserve(dual *D, size_t k) {
 #define GROW(field)                                                        \
     if (!(p = realloc(D->field, cap * sizeof *D->field))) return -1;       \
     D->field = p;
-    GROW(he) GROW(wl) GROW(ws) GROW(ed) GROW(ks) GROW(kt) GROW(km)
+    GROW(he) GROW(wl) GROW(ws) GROW(ks) GROW(kt) GROW(km)
 #undef GROW
     D->cap = cap;
     return 0;
@@ -449,146 +444,11 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
     }
 }
 
-/* ---- general path: cocircular sites ----------------------------------------
- * The records cannot express a vertex of four or more sites, so the
- * diagram is swept straight off the mesh, in site order: for site i the
- * fan is walked, the vertices it owns (a group counts as one, owned by its
- * smallest site) and the edges to larger sites (not inside a group) take
- * the next ids, and its cell is written in place. Edge ids reach the
- * larger site through adj, as twin positions did in build_records (site
- * order now: the adj of a half-edge into an already swept site is never
- * read again). Slower than the records (every fan is a random visit), but
- * only taken when sites are cocircular. */
-static int sweep_mesh(dual *D) {
-    const size_t n = D->n;
-    int32_t *adj = D->adj;
-    uint32_t *vid = D->vid, *gid = D->gid;
-    const uint32_t *gtrip = D->gtrip, *outl = D->outl;
-    const double *sxy = D->s->xy;
-    vor_diagram *d = D->d;
-    uint32_t *vsites = d->vertex_sites, *esites = d->edge_sites;
-    int32_t *eends = d->edge_ends;
-    size_t nv = 0, ne = 0, nr = 0, nc = 0;
-    uint32_t *rank = D->rank; /* site -> local vertex */
-
-    for (size_t v = 0; v < n; v++) rank[D->order[v]] = (uint32_t)v;
-    for (size_t i = 0; i < n; i++) {
-        const uint32_t si = (uint32_t)i;
-        size_t deg;
-        int r = walk_fan(D, outl[rank[i]], &deg);
-        if (r != PASS_OK) return r;
-        const uint32_t *he = D->he, *wl = D->wl, *ws = D->ws;
-        uint32_t *ed = D->ed;
-        key_slot *ks = D->ks;
-#define VID(t) (vid[t] & GROUP_BIT ? gid[vid[t] & ~GROUP_BIT] : vid[t])
-
-        /* vertices owned by i, in (s1, s2) order */
-        size_t no = 0;
-        for (size_t k = 0; k < deg; k++) {
-            size_t kn = k + 1 < deg ? k + 1 : 0;
-            uint32_t a = ws[k], b = ws[kn], x = vid[he[k] / 3];
-            if (a == VOR__GHOST || b == VOR__GHOST) continue;
-            if (x & GROUP_BIT) {
-                uint32_t g = x & ~GROUP_BIT;
-                if (gtrip[3 * (size_t)g] == si && gid[g] == UNSET) {
-                    gid[g] = PENDING;
-                    ks[no].key = (uint64_t)gtrip[3 * (size_t)g + 1] << 32 |
-                                 gtrip[3 * (size_t)g + 2];
-                    ks[no++].slot = (uint32_t)k;
-                }
-            } else if (a > si && b > si) {
-                ks[no].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-                ks[no++].slot = (uint32_t)k;
-            }
-        }
-        sort_ks(ks, D->kt, no);
-        for (size_t j = 0; j < no; j++) {
-            uint32_t t = he[ks[j].slot] / 3, *vs = vsites + 3 * nv;
-            vs[0] = si;
-            vs[1] = (uint32_t)(ks[j].key >> 32);
-            vs[2] = (uint32_t)ks[j].key;
-            if (vid[t] & GROUP_BIT) gid[vid[t] & ~GROUP_BIT] = (uint32_t)nv;
-            else vid[t] = (uint32_t)nv;
-            nv++;
-        }
-
-        /* edges to larger sites (not inside a group), in site order */
-        size_t nu = 0;
-        for (size_t k = 0; k < deg; k++) {
-            if (ws[k] == VOR__GHOST || ws[k] < si) continue;
-            size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
-            uint32_t x = vid[he[k] / 3];
-            if (wl[kp] != VOR__GHOST && wl[kn] != VOR__GHOST && (x & GROUP_BIT) &&
-                vid[he[kp] / 3] == x) {
-                ed[k] = NO_EDGE;
-                continue;
-            }
-            ks[nu].key = ws[k];
-            ks[nu++].slot = (uint32_t)k;
-        }
-        sort_ks(ks, D->kt, nu);
-        for (size_t j = 0; j < nu; j++) {
-            size_t k = ks[j].slot;
-            size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
-            int32_t vl = wl[kn] == VOR__GHOST ? VOR_NONE : (int32_t)VID(he[k] / 3);
-            int32_t vr = wl[kp] == VOR__GHOST ? VOR_NONE : (int32_t)VID(he[kp] / 3);
-            esites[2 * ne] = si;
-            esites[2 * ne + 1] = ws[k];
-            if (vl >= 0 && vr >= 0) {
-                eends[2 * ne] = vl < vr ? vl : vr;
-                eends[2 * ne + 1] = vl < vr ? vr : vl;
-            } else {
-                const double *pa = sxy + 2 * (size_t)si, *pb = sxy + 2 * (size_t)ws[k];
-                eends[2 * ne] = vl >= 0 ? vl : vr;
-                eends[2 * ne + 1] = VOR_NONE;
-                d->ray_edge[nr] = (uint32_t)ne;
-                if (vr < 0)
-                    vor_bisector_dir(pb, pa, d->ray_dir + 2 * nr);
-                else
-                    vor_bisector_dir(pa, pb, d->ray_dir + 2 * nr);
-                nr++;
-            }
-            ed[k] = (uint32_t)ne++;
-        }
-#undef VID
-
-        /* edge ids to smaller sites, from their stash; stash ours */
-        size_t ghost = deg;
-        for (size_t k = 0; k < deg; k++) {
-            if (ws[k] == VOR__GHOST)
-                ghost = k;
-            else if (ws[k] < si)
-                ed[k] = (uint32_t)adj[he[k]];
-            else
-                adj[adj[he[k]]] = (int32_t)ed[k];
-        }
-
-        /* the cell: after the ghost, or from the smallest edge id */
-        size_t start = 0;
-        if (ghost < deg) {
-            start = ghost + 1 == deg ? 0 : ghost + 1;
-        } else {
-            uint32_t best = UINT32_MAX;
-            for (size_t k = 0; k < deg; k++)
-                if (ed[k] < best) {
-                    best = ed[k];
-                    start = k;
-                }
-        }
-        d->cell_start[i] = (uint32_t)nc;
-        d->cell_bounded[i] = ghost == deg;
-        for (size_t j = 0, k = start; j < deg; j++) {
-            if (ws[k] != VOR__GHOST && ed[k] != NO_EDGE)
-                d->cell_edges[nc++] = ed[k];
-            k = k + 1 == deg ? 0 : k + 1;
-        }
-    }
-    d->cell_start[n] = (uint32_t)nc;
-    D->nv = nv;
-    D->ne = ne;
-    D->nr = nr;
-    return PASS_OK;
-}
+/* ---- cocircular sites ------------------------------------------------------
+ * The records cannot express a vertex of four or more sites: at the first
+ * cocircular edge the mesh is put back as the construction left it and
+ * finished, and vor__mesh_to_diagram (diagram.c) merges its cocircular
+ * triangles and builds the diagram through vor__diagram_build. */
 
 /* Puts back the adj entries build_records overwrote: each pair of twins
  * has one half-edge from the earlier to the later visited vertex, whose
@@ -603,93 +463,7 @@ static void restore_adj(dual *D) {
     }
 }
 
-static uint32_t uf_find(uint32_t *uf, uint32_t x) {
-    while (uf[x] != x) {
-        uf[x] = uf[uf[x]];
-        x = uf[x];
-    }
-    return x;
-}
-
-/* Adds site x to the increasing triple t (UNSET marks free slots), keeping
- * the three smallest distinct values. */
-static void insert3(uint32_t *t, uint32_t x) {
-    if (x == t[0] || x == t[1] || x == t[2]) return;
-    if (x < t[0]) {
-        t[2] = t[1];
-        t[1] = t[0];
-        t[0] = x;
-    } else if (x < t[1]) {
-        t[2] = t[1];
-        t[1] = x;
-    } else if (x < t[2]) {
-        t[2] = x;
-    }
-}
-
-/* Merges triangles that share a circumcircle (exact incircle == 0 across
- * an edge) and leaves in vid: GROUP_BIT | g for the triangles of group g,
- * 0 for the others. Fills gtrip, gid. PASS_OK, PASS_NOMEM or PASS_BROKEN
- * (an edge is not locally Delaunay). */
-static int find_groups(dual *D) {
-    const size_t T = D->T;
-    const uint32_t *tri = D->tri, *order = D->order;
-    const int32_t *adj = D->adj;
-    const double *lxy = D->lxy;
-    uint32_t *uf = D->vid;
-    for (size_t t = 0; t < T; t++) uf[t] = (uint32_t)t;
-    for (size_t t = 0; t < T; t++) {
-        if (vor__mesh_is_ghost(tri, (uint32_t)t)) continue;
-        const uint32_t *v = tri + 3 * t;
-        for (uint32_t k = 0; k < 3; k++) {
-            uint32_t e = 3 * (uint32_t)t + k, f = (uint32_t)adj[e];
-            if (f < e || vor__mesh_is_ghost(tri, f / 3)) continue;
-            int ic = vor__incircle_fast(XY(v[0]), XY(v[1]), XY(v[2]),
-                                        XY(tri[vor__prev(f)]));
-            if (ic > 0) return PASS_BROKEN;
-            if (ic == 0) {
-                uint32_t a = uf_find(uf, (uint32_t)t), b = uf_find(uf, f / 3);
-                if (a < b) uf[b] = a;
-                else if (b < a) uf[a] = b;
-            }
-        }
-    }
-    /* roots are the smallest triangle of their group: mark those with
-     * members, then number the groups in slot order */
-    for (size_t t = 0; t < T; t++) uf[t] = uf_find(uf, (uint32_t)t);
-    for (size_t t = 0; t < T; t++) {
-        uint32_t r = uf[t] & ~GROUP_BIT;
-        if (r != t) uf[r] |= GROUP_BIT;
-    }
-    size_t ng = 0;
-    for (size_t t = 0; t < T; t++) {
-        uint32_t x = uf[t];
-        if (x & GROUP_BIT) uf[t] = GROUP_BIT | (uint32_t)ng++;
-        else if (x == t) uf[t] = 0;
-        else uf[t] = uf[x];
-    }
-    D->gtrip = xmalloc(3 * ng, sizeof *D->gtrip);
-    D->gid = xmalloc(ng, sizeof *D->gid);
-    if (!D->gtrip || !D->gid) return PASS_NOMEM;
-    for (size_t g = 0; g < ng; g++) {
-        D->gid[g] = UNSET;
-        D->gtrip[3 * g] = D->gtrip[3 * g + 1] = D->gtrip[3 * g + 2] = UNSET;
-    }
-    for (size_t t = 0; t < T; t++) {
-        if (!(uf[t] & GROUP_BIT)) continue;
-        uint32_t *g = D->gtrip + 3 * (size_t)(uf[t] & ~GROUP_BIT);
-        for (int k = 0; k < 3; k++) insert3(g, order[tri[3 * t + k]]);
-    }
-    return PASS_OK;
-}
-
 /* ---- driver -------------------------------------------------------------- */
-
-/* Gives back the unused tail of an array (keeps it when realloc fails). */
-static void *shrink(void *p, size_t count, size_t size) {
-    void *q = realloc(p, (count ? count : 1) * size);
-    return q ? q : p;
-}
 
 /* Counts, per site, its finite neighbours (into cell_start, then made
  * offsets), finds a half-edge out of every vertex and counts the ghosts.
@@ -785,28 +559,26 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         lxy = NULL;
         free(D.outl);
         D.outl = NULL;
+        free(order);
+        order = NULL;
+        D.order = NULL;
         D.vid = xmalloc(T, sizeof *D.vid);
         if (!D.vid || alloc_result(&D, nvmax, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
     } else if (r == PASS_COCIRCULAR) {
         restore_adj(&D);
+        vor_diagram_free(d);
+        D.d = NULL;
+        free(D.outl);
         free(D.rwt);
+        D.outl = NULL;
         D.rwt = NULL;
-        D.vid = xmalloc(T, sizeof *D.vid);
-        D.rank = xmalloc(n, sizeof *D.rank);
-        if (!D.vid || !D.rank || alloc_result(&D, nvmax, nemax, nrmax) != PASS_OK) goto done;
-        r = find_groups(&D);
-        free(lxy); /* the last use of the coordinates */
+        free(lxy);
         lxy = NULL;
-        D.lxy = NULL;
-        if (r == PASS_OK) r = sweep_mesh(&D);
-        if (r == PASS_OK) {
-            d->vertex_sites = shrink(d->vertex_sites, 3 * D.nv, sizeof *d->vertex_sites);
-            d->edge_sites = shrink(d->edge_sites, 2 * D.ne, sizeof *d->edge_sites);
-            d->edge_ends = shrink(d->edge_ends, 2 * D.ne, sizeof *d->edge_ends);
-            d->cell_edges = shrink(d->cell_edges, 2 * D.ne, sizeof *d->cell_edges);
-        }
+        vor__mesh_finish(m, order);
+        st = vor__mesh_to_diagram(s, m, out);
+        goto done;
     }
     if (r != PASS_OK) {
         st = status_of(r);
@@ -834,13 +606,9 @@ done:
     free(D.outl);
     free(D.rwt);
     free(D.vid);
-    free(D.rank);
-    free(D.gtrip);
-    free(D.gid);
     free(D.he);
     free(D.wl);
     free(D.ws);
-    free(D.ed);
     free(D.ks);
     free(D.kt);
     free(D.km);
