@@ -46,7 +46,9 @@
  * pointing into itself: once a vertex's fan has been walked, the adj of a
  * half-edge into it is never read again, since walks read the adj of the
  * half-edges into their own vertex); the second reads it from the adj of
- * its own half-edge and links both slots.
+ * its own half-edge. Only the smaller site of the two needs its twin's
+ * position (to pass on the edge id), so only that slot is linked; the
+ * other slot holds garbage until the edge id arrives.
  *
  * Cocircular sites. A vertex of four or more sites is one circle, which
  * the per-triangle records cannot express, so the first exactly
@@ -288,18 +290,22 @@ static int build_records(dual *D) {
         if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;
 
         /* the record, in cell order. Twins meet through adj: x is either
-         * the slot the neighbour left (visited earlier), then both slots
-         * are linked, or the twin half-edge, whose adj gets our slot (the
-         * slot itself is linked by the neighbour). Without branches on
-         * which: it is as good as random. */
-        uint32_t p = cs[order[v]];
+         * the position of the neighbour's slot (visited earlier), or the
+         * twin half-edge, whose adj then gets ours. A slot keeps its
+         * twin's position only where the sweep will use it, at the
+         * smaller site (the edge's owner): so the neighbour's slot gets
+         * ours only if the neighbour is the smaller site. */
+        const uint32_t si = order[v];
+        uint32_t p = cs[si];
         for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
             if (k == ghost) continue;
             const uint32_t x = (uint32_t)adj[he[k]];
-            uint32_t *to = wl[k] < v ? rx : (uint32_t *)adj;
             rwt[p] = (uint64_t)ws[k] << 32 | he[k] / 3;
             rx[p] = x;
-            to[x] = p;
+            if (wl[k] > v)
+                adj[x] = (int32_t)p;
+            else if (ws[k] < si)
+                rx[x] = p;
             p++;
         }
         if (ghost < deg) /* the last slot's left triangle is a ghost */
