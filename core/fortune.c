@@ -29,10 +29,16 @@
  *     measured: the heap grows eightfold with cancelled far-future events
  *     and needs twice the comparisons.) Sites are not in the heap: the next
  *     site in sorted order is compared with the heap's top.
- *   - Output: raw edges (two sites, two ends, and a third site on the circle
- *     of the first end) and a union-find forest over raw vertices, handed to
- *     vor__diagram_build(), which computes every coordinate and the
- *     canonical order. Only the topology is decided here.
+ *   - Output: the Delaunay triangulation the sweep discovers, in the
+ *     ghost-closed form of mesh.h, handed to vor__mesh_dual() (mesh_dual.c),
+ *     which reads the canonical diagram off it as it does for Bowyer-Watson
+ *     and flipping. Each vertex event (a circle event, or a site exactly
+ *     below a breakpoint) is a triangle; each breakpoint traces a Delaunay
+ *     edge, whose record holds the half-edge of its first end until the
+ *     second end links the two triangles as twins; the breakpoints left at
+ *     the end, and the edges of the first row, are the convex hull, closed
+ *     by ghost triangles. Vertex ids are ranks in sweep order, which keeps
+ *     the conversion's fan walks local. Only the topology is decided here.
  *
  * Exactness. Every topological decision is exact:
  *   - a circle event exists for arcs of sites a, b, c (left to right) iff
@@ -49,14 +55,10 @@
  *     root, or two sums of a rational and a square root). The heap is
  *     ordered by this exact comparison, so its top is always the next
  *     event;
- *   - cocircular sites produce several raw vertices at one point, joined by
- *     zero-length edges; when an edge's second end is set, the two ends are
- *     compared exactly (the edge's sites and the ends' third sites
- *     cocircular) and, if equal, the vertices are united and the edge
- *     dropped. So the centre of 4+ cocircular sites is one vertex, and no
- *     edge has zero length. The comparison is skipped when the two ends were
- *     made by events whose keys are proven different (event groups, see
- *     struct sweep), which is almost always;
+ *   - cocircular sites produce several triangles with one circumcircle
+ *     (zero-length Voronoi edges between them); the conversion finds them
+ *     with the exact incircle and makes the centre of 4+ cocircular sites
+ *     one vertex, as for the other algorithms;
  *   - the first sites of equal lowest y start the beach line as a row of
  *     arcs separated by vertical bisectors, unbounded below.
  *
@@ -65,10 +67,10 @@
  * about 1 us of CPU per uniform site at 10^6 sites, of which the heap takes a
  * third, the circle-top filter a seventh. Exact arithmetic runs only near
  * degeneracies. Memory: the sorted copy (20 bytes per site; the sort needs
- * 48 more while it runs), raw edges (at most 3n, 24 bytes each),
- * union-find (at most 2n, 4 bytes each), the beach line and heap (O(sqrt n)
- * arcs for typical input, at most 2n). Only the edges survive, converted in
- * place, into vor__diagram_build().
+ * 48 more while it runs), the mesh (2n - 2 triangles with ghosts, 48 bytes
+ * per site), edge records (at most 3n, 4 bytes each), the beach line and
+ * heap (O(sqrt n) arcs for typical input, at most 2n). The edge records and
+ * the beach line are freed before the conversion, which owns the rest.
  */
 #include <assert.h>
 #include <float.h>
@@ -78,13 +80,13 @@
 #include <string.h>
 
 #include "fortune_predicates.h"
+#include "mesh.h"
 #include "predicates.h"
 
 #define NIL 0u              /* no arc (the sentinel) */
 #define NO_EVENT UINT32_MAX /* arc without a circle event */
 #define NO_EDGE UINT32_MAX  /* rightmost arc: no breakpoint to its right */
-#define DEAD UINT32_MAX     /* s[0] of a dropped zero-length edge */
-#define ROOT 0x80000000u    /* union-find: marks a numbered root */
+#define NO_END (-1)         /* edge record: no end yet */
 
 typedef struct arc {
     double xy[2];             /* the arc's site */
@@ -92,7 +94,7 @@ typedef struct arc {
     uint32_t site;            /* sorted site index */
     uint32_t left, right, up; /* red-black tree links, NIL if none */
     uint32_t prev, next;      /* beach-line neighbours, NIL if none */
-    uint32_t edge;            /* raw edge of the breakpoint with next */
+    uint32_t edge;            /* edge record of the breakpoint with next */
     uint32_t ev; /* event record of this arc's triple, or NO_EVENT */
 } arc;
 
@@ -108,17 +110,6 @@ typedef struct evrec {
     uint32_t pos;  /* its heap position */
     uint32_t s[3]; /* its triple, left to right (sorted site indices) */
 } evrec;
-
-/* A raw edge. end[0] is set first; third is a site on end[0]'s circle
- * other than s[0] and s[1] (the circle of a vertex is that of the three
- * sites of the event that made it), group the event group (see
- * sweep.group) in which end[0] was made. */
-typedef struct edge {
-    uint32_t s[2];  /* sorted site indices; s[0] == DEAD if dropped */
-    int32_t end[2]; /* raw vertex ids or VOR_NONE */
-    uint32_t third;
-    uint32_t group;
-} edge;
 
 typedef struct sweep {
     size_t n;
@@ -140,20 +131,20 @@ typedef struct sweep {
     uint32_t n_recs, cap_recs;
     uint32_t free_recs; /* list of freed records through .arc */
 
-    edge *edges;
+    /* Edge records: the half-edge of an edge's first end, or NO_END.
+     * Edges 0 .. row - 2 are those of the first row (sites 0 .. row - 1,
+     * of the lowest y), unbounded below: hull edges. */
+    int32_t *ehe;
     size_t n_edges, cap_edges;
-    uint32_t *parent; /* union-find over raw vertices */
-    size_t n_vert, cap_vert;
+    uint32_t row;
+
+    /* The mesh: finite triangles in the order of their events, then the
+     * ghosts. */
+    uint32_t *tri;
+    int32_t *adj;
+    size_t n_tri, cap_tri;
 
     vor__fortune_ws *ws; /* scratch of the exact event comparison */
-
-    /* Event groups: consecutive events whose keys are not proven distinct
-     * share a group number; it grows when an event's y is proven above
-     * every y of the current group (group_hi). Vertices at one point are
-     * made by events with one key, hence in one group: vertices of
-     * different groups are at different points. */
-    uint32_t group;
-    double group_hi;
 } sweep;
 
 static inline const double *site_xy(const sweep *w, uint32_t s) {
@@ -321,81 +312,57 @@ static double choose_scale(const vor_sites *s, int *safe) {
     return scale;
 }
 
-/* ---- Raw output ---------------------------------------------------------- */
+/* ---- Mesh output ---------------------------------------------------------
+ *
+ * A vertex event makes triangle t = (a, b, c), counter-clockwise; its
+ * half-edges 3t, 3t + 1, 3t + 2 go a->b, b->c, c->a. The breakpoint of two
+ * arcs traces their Delaunay edge; each end of the edge is a half-edge of
+ * the triangle made there, and the two ends are twins.
+ */
 
-static uint32_t vertex_new(sweep *w) {
-    size_t v = w->n_vert++;
-    assert(v < w->cap_vert);
-    w->parent[v] = (uint32_t)v;
-    return (uint32_t)v;
-}
-
-/* A new edge between sites a and b, starting at raw vertex `start` (or
- * VOR_NONE) whose third site is `third`. */
-static uint32_t edge_new(sweep *w, uint32_t a, uint32_t b, int32_t start,
-                         uint32_t third) {
+/* A new edge record, no end yet. */
+static uint32_t edge_new(sweep *w) {
     size_t e = w->n_edges++;
     assert(e < w->cap_edges);
-    edge *g = &w->edges[e];
-    g->s[0] = a;
-    g->s[1] = b;
-    g->end[0] = start;
-    g->end[1] = VOR_NONE;
-    g->third = third;
-    g->group = w->group;
+    w->ehe[e] = NO_END;
     return (uint32_t)e;
 }
 
-static uint32_t uf_find(uint32_t *parent, uint32_t v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
-/* 1 if sites t and u lie on the same circle through l and m, exactly. */
-static int same_circle(const sweep *w, uint32_t l, uint32_t m, uint32_t t,
-                       uint32_t u) {
-    const double *pl = site_xy(w, l), *pm = site_xy(w, m);
-    const double *pt = site_xy(w, t), *pu = site_xy(w, u);
-    int s = vor__incircle_filter(pl, pm, pt, pu);
-    if (s != 0) return 0;
-    /* cocircular input (grids, lattices) often has circles computable
-     * exactly in doubles; compare those before exact arithmetic */
-    double c1[3], c2[3];
-    if (vor__fortune_circle_exact_double(pl, pm, pt, c1) &&
-        vor__fortune_circle_exact_double(pl, pm, pu, c2))
-        return c1[0] == c2[0] && c1[1] == c2[1] && c1[2] == c2[2];
-    return vor__incircle_exact(pl, pm, pt, pu) == 0;
-}
-
-/* Sets the next free end of edge e to raw vertex v, whose circle passes
- * through the edge's sites and site t. If the other end is already a
- * vertex at the same point -- both lie on the bisector of the edge's sites,
- * so they coincide iff their circles do -- the vertices are united and the
- * edge, of zero length, dropped. */
-static void edge_end(sweep *w, uint32_t e, uint32_t v, uint32_t t) {
-    edge *g = &w->edges[e];
-    if (g->end[0] == VOR_NONE) {
-        g->end[0] = (int32_t)v;
-        g->third = t;
-        g->group = w->group;
+/* Edge e ends at half-edge h: the first end is remembered, the second is
+ * linked to it. */
+static void edge_end(sweep *w, uint32_t e, uint32_t h) {
+    int32_t f = w->ehe[e];
+    if (f == NO_END) {
+        w->ehe[e] = (int32_t)h;
         return;
     }
-    assert(g->end[1] == VOR_NONE);
-    if (g->group == w->group &&
-        (g->third == t || same_circle(w, g->s[0], g->s[1], t, g->third))) {
-        uint32_t ru = uf_find(w->parent, (uint32_t)g->end[0]);
-        uint32_t rv = uf_find(w->parent, v);
-        if (ru < rv)
-            w->parent[rv] = ru;
-        else
-            w->parent[ru] = rv;
-        g->s[0] = DEAD;
-        return;
-    }
-    g->end[1] = (int32_t)v;
+    w->adj[h] = f;
+    w->adj[f] = (int32_t)h;
+}
+
+/* Triangle (a, b, c) of sorted site ids, counter-clockwise; returns its
+ * first half-edge (a->b). */
+static uint32_t tri_new(sweep *w, uint32_t a, uint32_t b, uint32_t c) {
+    size_t t = w->n_tri++;
+    assert(t < w->cap_tri);
+    uint32_t *v = w->tri + 3 * t;
+    v[0] = a;
+    v[1] = b;
+    v[2] = c;
+    assert(vor_orient2d(site_xy(w, a), site_xy(w, b), site_xy(w, c)) > 0);
+    return 3 * (uint32_t)t;
+}
+
+/* Ghost triangle (p, q, GHOST) beyond hull half-edge q->p; returns its
+ * half-edge p->q. */
+static uint32_t tri_ghost(sweep *w, uint32_t p, uint32_t q) {
+    size_t t = w->n_tri++;
+    assert(t < w->cap_tri);
+    uint32_t *v = w->tri + 3 * t;
+    v[0] = p;
+    v[1] = q;
+    v[2] = VOR__GHOST;
+    return 3 * (uint32_t)t;
 }
 
 /* ---- Arc pool ------------------------------------------------------------ */
@@ -908,7 +875,7 @@ static vor_status site_event(sweep *w, uint32_t i) {
         if (s == NIL) return VOR_ENOMEM;
         uint32_t b2 = arc_new(w, ARC(b).site);
         if (b2 == NIL) return VOR_ENOMEM;
-        uint32_t e = edge_new(w, ARC(b).site, i, VOR_NONE, 0);
+        uint32_t e = edge_new(w);
         ARC(b2).edge = ARC(b).edge;
         ARC(b).edge = e;
         ARC(s).edge = e;
@@ -920,11 +887,14 @@ static vor_status site_event(sweep *w, uint32_t i) {
     uint32_t r = b, l = ARC(b).prev;
     uint32_t s = arc_new(w, i);
     if (s == NIL) return VOR_ENOMEM;
-    uint32_t sl = ARC(l).site, sr = ARC(r).site;
-    uint32_t v = vertex_new(w);
-    edge_end(w, ARC(l).edge, v, i);
-    ARC(l).edge = edge_new(w, sl, i, (int32_t)v, sr);
-    ARC(s).edge = edge_new(w, i, sr, (int32_t)v, sl);
+    /* triangle (l, r, i): i, on the sweep line, is the top of the circle
+     * and l the left arc, so the three are counter-clockwise */
+    uint32_t h = tri_new(w, ARC(l).site, ARC(r).site, i);
+    edge_end(w, ARC(l).edge, h);
+    ARC(l).edge = edge_new(w);
+    edge_end(w, ARC(l).edge, h + 2);
+    ARC(s).edge = edge_new(w);
+    edge_end(w, ARC(s).edge, h + 1);
     insert_after(w, l, s);
     if ((st = renew_event(w, l)) != VOR_OK) return st;
     return renew_event(w, r);
@@ -937,11 +907,12 @@ static vor_status site_event(sweep *w, uint32_t i) {
  */
 static vor_status circle_event(sweep *w, uint32_t b) {
     uint32_t a = ARC(b).prev, c = ARC(b).next;
-    uint32_t sa = ARC(a).site, sb = ARC(b).site, sc = ARC(c).site;
-    uint32_t v = vertex_new(w);
-    edge_end(w, ARC(a).edge, v, sc);
-    edge_end(w, ARC(b).edge, v, sa);
-    ARC(a).edge = edge_new(w, sa, sc, (int32_t)v, sb);
+    /* the breakpoints converge: orient2d(a, b, c) > 0 */
+    uint32_t h = tri_new(w, ARC(a).site, ARC(b).site, ARC(c).site);
+    edge_end(w, ARC(a).edge, h);
+    edge_end(w, ARC(b).edge, h + 1);
+    ARC(a).edge = edge_new(w);
+    edge_end(w, ARC(a).edge, h + 2);
     remove_arc(w, b);
     arc_free(w, b);
     vor_status st = renew_event(w, a);
@@ -961,41 +932,36 @@ static int event_first(sweep *w, const double *p) {
                                           site_xy(w, t[2]));
 }
 
-/* Enters the event group of the next event, whose y lies in [lo, hi]. */
-static inline void new_key(sweep *w, double lo, double hi) {
-    if (lo > w->group_hi) w->group++;
-    if (hi > w->group_hi) w->group_hi = hi;
-}
-
-static vor_status sweep_run(sweep *w) {
+/* Runs the sweep over all sites; *first receives the leftmost arc (site
+ * 0's first arc, which stays leftmost: splits keep the left part and circle
+ * events never remove an arc without a left neighbour). */
+static vor_status sweep_run(sweep *w, uint32_t *first) {
     size_t n = w->n;
     /* the first row: sites of the lowest y, left to right */
     uint32_t last = arc_new(w, 0);
     if (last == NIL) return VOR_ENOMEM;
+    *first = last;
     RED(last) = 0;
     w->root = last;
     size_t i = 1;
     while (i < n && w->xy[2 * i + 1] == w->xy[1]) {
         uint32_t s = arc_new(w, (uint32_t)i);
         if (s == NIL) return VOR_ENOMEM;
-        ARC(last).edge =
-            edge_new(w, (uint32_t)(i - 1), (uint32_t)i, VOR_NONE, 0);
+        ARC(last).edge = edge_new(w);
         insert_after(w, last, s);
         last = s;
         i++;
     }
+    w->row = (uint32_t)i;
     for (;;) {
         vor_status st;
         if (w->n_heap > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
             const event *e = &w->heap[0];
-            new_key(w, e->lo, e->hi);
             uint32_t b = w->recs[e->rec].arc;
             drop_event(w, b);
             st = circle_event(w, b);
         } else if (i < n) {
-            double y = w->xy[2 * i + 1];
-            new_key(w, y, y);
             st = site_event(w, (uint32_t)i++);
         } else {
             return VOR_OK;
@@ -1012,54 +978,44 @@ static void sweep_free(sweep *w) {
     free(w->heap);
     free(w->recs);
     free(w->cache);
-    free(w->edges);
-    free(w->parent);
+    free(w->ehe);
+    free(w->tri);
+    free(w->adj);
     vor__fortune_ws_free(w->ws);
 }
 
-/* Numbers the union-find roots densely and converts the raw edges in place
- * into the builder's arrays: *edges_out (site indices, 2 per edge, the
- * memory of w->edges, shrunk) and *ends_out (vertex numbers). Dropped edges
- * disappear. Returns the number of vertices, or (size_t)-1 if out of
- * memory (w->edges then still belongs to w). */
-static size_t compact(sweep *w, uint32_t **edges_out, int32_t **ends_out,
-                      size_t *n_edges) {
-    uint32_t *parent = w->parent;
-    size_t nv = 0, ne = 0;
-    for (size_t v = 0; v < w->n_vert; v++)
-        parent[v] = uf_find(parent, (uint32_t)v);
-    for (size_t v = 0; v < w->n_vert; v++)
-        if (parent[v] == v) parent[v] = ROOT | (uint32_t)nv++;
-    for (size_t e = 0; e < w->n_edges; e++) ne += w->edges[e].s[0] != DEAD;
-    int32_t *ends = malloc((ne ? 2 * ne : 1) * sizeof *ends);
-    if (!ends) return (size_t)-1;
-    /* record e (20 bytes at 20e) is read before output k <= e (8 bytes at
-     * 8k) is written, and 8k + 8 <= 20e for k <= e, k >= 1 */
-    uint32_t *out = (uint32_t *)(void *)w->edges;
-    size_t k = 0;
-    for (size_t e = 0; e < w->n_edges; e++) {
-        edge g = w->edges[e];
-        if (g.s[0] == DEAD) continue;
-        for (int j = 0; j < 2; j++) {
-            int32_t v = g.end[j];
-            if (v >= 0) {
-                uint32_t p = parent[v];
-                if (!(p & ROOT)) p = parent[p];
-                v = (int32_t)(p & ~ROOT);
-            }
-            ends[2 * k + (size_t)j] = v;
-        }
-        assert(ends[2 * k] < 0 || ends[2 * k] != ends[2 * k + 1]);
-        out[2 * k] = w->orig[g.s[0]];
-        out[2 * k + 1] = w->orig[g.s[1]];
-        k++;
+/* Closes the mesh with a ghost triangle on every hull edge, once the sweep
+ * is done. The breakpoints left on the beach line, left to right, and then
+ * the edges of the first row, right to left, are the hull edges in
+ * clockwise order (the leftmost arc is always site 0's first arc, the
+ * rightmost the last site of the first row):
+ *
+ *        q ----- p           arcs p | q left to right: finite half-edge
+ *         \  t  /            q->p in triangle t (interior on its left),
+ *          \   /             ghost (p, q, GHOST) on the other side;
+ *            .               its half-edge q->GHOST is the twin of
+ *                            GHOST->q in the next ghost, (q, r, GHOST).
+ *
+ * Every such edge has exactly one end (an edge with none would be a whole
+ * line: collinear sites, excluded by the caller). */
+static void close_hull(sweep *w, uint32_t first) {
+    const size_t g0 = w->n_tri;
+    for (uint32_t x = first; ARC(x).next != NIL; x = ARC(x).next) {
+        uint32_t h = tri_ghost(w, ARC(x).site, ARC(ARC(x).next).site);
+        edge_end(w, ARC(x).edge, h);
     }
-    uint32_t *shrunk = realloc(out, (ne ? 2 * ne : 1) * sizeof *shrunk);
-    *edges_out = shrunk ? shrunk : out;
-    w->edges = NULL;
-    *ends_out = ends;
-    *n_edges = ne;
-    return nv;
+    for (uint32_t j = w->row - 1; j > 0; j--) {
+        uint32_t h = tri_ghost(w, j, j - 1);
+        edge_end(w, j - 1, h);
+    }
+    const size_t g1 = w->n_tri;
+    for (size_t g = g0; g < g1; g++) {
+        uint32_t a = 3 * (uint32_t)g + 1;
+        uint32_t b = 3 * (uint32_t)(g + 1 < g1 ? g + 1 : g0) + 2;
+        w->adj[a] = (int32_t)b;
+        w->adj[b] = (int32_t)a;
+    }
+    assert(w->n_tri == w->cap_tri);
 }
 
 vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
@@ -1084,51 +1040,41 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.heap = malloc(w.cap_recs * sizeof *w.heap);
     w.cache = malloc(6 * (size_t)w.cap_recs * sizeof *w.cache);
     w.cap_edges = 3 * w.n;
-    w.cap_vert = 2 * w.n;
-    w.edges = malloc(w.cap_edges * sizeof *w.edges);
-    w.parent = malloc(w.cap_vert * sizeof *w.parent);
+    w.ehe = vor__alloc_large(w.cap_edges, sizeof *w.ehe);
+    w.cap_tri = 2 * w.n - 2; /* Euler, ghosts included */
+    w.tri = vor__alloc_large(3 * w.cap_tri, sizeof *w.tri);
+    w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.edges ||
-        !w.parent || !w.ws)
+    if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.ehe ||
+        !w.tri || !w.adj || !w.ws)
         goto fail;
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
     w.red[NIL] = 0;
     w.n_arcs = 1;
     w.free_arcs = NIL;
     w.free_recs = NO_EVENT;
-    w.group_hi = -INFINITY;
 
-    if ((st = sweep_run(&w)) != VOR_OK) goto fail;
-
-    /* free what the conversion does not need before it allocates */
-    free(w.arcs);
-    free(w.red);
-    free(w.heap);
-    free(w.recs);
-    free(w.cache);
-    vor__fortune_ws_free(w.ws);
-    free(w.xy);
-    w.arcs = NULL;
-    w.red = NULL;
-    w.heap = NULL;
-    w.recs = NULL;
-    w.cache = NULL;
-    w.ws = NULL;
-    w.xy = NULL;
-    uint32_t *edges;
-    int32_t *ends;
-    size_t ne, nv = compact(&w, &edges, &ends, &ne);
-    if (nv == (size_t)-1) {
-        st = VOR_ENOMEM;
-        goto fail;
-    }
-    sweep_free(&w);
-    if (nv == 0) { /* no vertex: the sites were collinear after all */
-        free(edges);
-        free(ends);
+    uint32_t first;
+    if ((st = sweep_run(&w, &first)) != VOR_OK) goto fail;
+    if (w.n_tri == 0) { /* no vertex: the sites were collinear after all */
+        sweep_free(&w);
         return vor__diagram_degenerate(s, out);
     }
-    return vor__diagram_build(s, nv, edges, ends, ne, out);
+    close_hull(&w, first);
+
+    vor__mesh m = {.n_tri = w.n_tri, .cap_tri = w.cap_tri,
+                   .tri = w.tri, .adj = w.adj};
+    double *lxy = w.xy;
+    uint32_t *order = w.orig;
+    w.tri = NULL;
+    w.adj = NULL;
+    w.xy = NULL;
+    w.orig = NULL;
+    sweep_free(&w); /* the beach line, the heap and the edge records */
+    /* vertex ids are sweep ranks: the site of rank v is order[v], at
+     * lxy[2v] (rescaled by a power of two, which leaves every predicate's
+     * sign unchanged) */
+    return vor__mesh_dual(s, &m, lxy, order, out);
 
 fail:
     sweep_free(&w);

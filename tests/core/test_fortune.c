@@ -785,7 +785,8 @@ static void test_alloc_failures(void **state) {
     size_t n = 3000;
     double *xy = vt_uniform(n, 9);
     assert_non_null(xy);
-    /* cocircular groups too, so that the tie and merge paths allocate */
+    /* cocircular groups too, so that the exact tie comparison and the
+     * cocircular conversion allocate */
     for (size_t i = 0; i < 400; i++) {
         xy[2 * i] = (double)(i % 20);
         xy[2 * i + 1] = (double)(i / 20) + 2;
@@ -808,7 +809,9 @@ static void test_alloc_failures(void **state) {
         st = vor__fortune(s, &d);
         fault_disarm();
         if (st == VOR_OK) {
-            /* only giving back unused memory may fail without harm */
+            /* only giving back unused memory may fail without harm: the
+             * two shrinking reallocs of the cocircular conversion
+             * (vor__mesh_to_diagram) */
             tolerated++;
             assert_true(vor_diagram_equal(d, want));
             vor_diagram_free(d);
@@ -817,7 +820,7 @@ static void test_alloc_failures(void **state) {
         assert_int_equal(st, VOR_ENOMEM);
         assert_null(d);
     }
-    assert_true(tolerated <= 1);
+    assert_true(tolerated <= 2);
     assert_int_equal(vor__fortune(s, &d), VOR_OK);
     assert_true(vor_diagram_equal(d, want));
     vor_diagram_free(d);
