@@ -9,11 +9,19 @@
  * plain values are copied as they are, numbers go through fmt.h instead of
  * printf, and each thread keeps the date and time of the last second it
  * formatted (gmtime_r once a second, not once a line).
+ *
+ * srv_log batches the lines of all threads into one buffer written by a
+ * background thread (see the section below), replacing a write(2) per
+ * request -- about a tenth of the daemon's time on 10-point requests --
+ * with one per batch.
  */
 #include "accesslog.h"
 
+#include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -149,4 +157,151 @@ void srv_access_write(int fd, const srv_access *a) {
         if (w <= 0) return; /* a log that cannot be written is not fatal */
         off += (size_t)w;
     }
+}
+
+/* ---- the buffered log ---------------------------------------------------
+ *
+ * Two buffers of LOG_CAP bytes: `buf` takes lines under `mu`; a flush swaps
+ * it with `out` and writes `out` without holding `mu`, so appenders never
+ * wait for the file. `write_mu` lets one flush run at a time, which keeps
+ * batches (and so lines) in order. Lock order: write_mu, then mu; an
+ * appender holds only mu. The writer thread sleeps on `cv` until a line
+ * arrives, then waits delay_ms more (or until the buffer is half full) and
+ * flushes. */
+
+#define LOG_CAP (64 * 1024)
+
+struct srv_log {
+    int fd;
+    int delay_ms;
+    pthread_mutex_t mu;       /* buf, len, stop */
+    pthread_mutex_t write_mu; /* out; one flush at a time */
+    pthread_cond_t cv;        /* writer: a first line, half full, stop */
+    char *buf, *out;
+    size_t len;
+    int stop;
+    pthread_t thread;
+};
+
+static void write_all(int fd, const char *p, size_t n) {
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return; /* a log that cannot be written is not fatal */
+        p += (size_t)w;
+        n -= (size_t)w;
+    }
+}
+
+void srv_log_flush(srv_log *l) {
+    pthread_mutex_lock(&l->write_mu);
+    pthread_mutex_lock(&l->mu);
+    char *full = l->buf;
+    size_t n = l->len;
+    l->buf = l->out;
+    l->len = 0;
+    l->out = full;
+    pthread_mutex_unlock(&l->mu);
+    if (n > 0) write_all(l->fd, full, n);
+    pthread_mutex_unlock(&l->write_mu);
+}
+
+static void *log_writer(void *arg) {
+    srv_log *l = arg;
+    pthread_mutex_lock(&l->mu);
+    while (!l->stop) {
+        if (l->len == 0) {
+            pthread_cond_wait(&l->cv, &l->mu);
+            continue;
+        }
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until);
+        until.tv_nsec += (long)l->delay_ms * 1000000L;
+        until.tv_sec += until.tv_nsec / 1000000000L;
+        until.tv_nsec %= 1000000000L;
+        while (!l->stop && l->len < LOG_CAP / 2 &&
+               pthread_cond_timedwait(&l->cv, &l->mu, &until) != ETIMEDOUT) {
+        }
+        pthread_mutex_unlock(&l->mu);
+        srv_log_flush(l);
+        pthread_mutex_lock(&l->mu);
+    }
+    pthread_mutex_unlock(&l->mu);
+    return NULL;
+}
+
+srv_log *srv_log_new(int fd, int delay_ms) {
+    srv_log *l = calloc(1, sizeof *l);
+    if (l == NULL) return NULL;
+    l->fd = fd;
+    l->delay_ms = delay_ms < 1 ? 1 : delay_ms;
+    l->buf = malloc(LOG_CAP);
+    l->out = malloc(LOG_CAP);
+    if (l->buf == NULL || l->out == NULL) goto fail_mem;
+    if (pthread_mutex_init(&l->mu, NULL) != 0) goto fail_mem;
+    if (pthread_mutex_init(&l->write_mu, NULL) != 0) goto fail_mu;
+    if (pthread_cond_init(&l->cv, NULL) != 0) goto fail_write_mu;
+    if (pthread_create(&l->thread, NULL, log_writer, l) != 0) goto fail_cv;
+    return l;
+fail_cv:
+    pthread_cond_destroy(&l->cv);
+fail_write_mu:
+    pthread_mutex_destroy(&l->write_mu);
+fail_mu:
+    pthread_mutex_destroy(&l->mu);
+fail_mem:
+    free(l->buf);
+    free(l->out);
+    free(l);
+    return NULL;
+}
+
+/* Appends n <= LOG_CAP bytes, flushing first when they do not fit. */
+static void log_append(srv_log *l, const char *p, size_t n) {
+    pthread_mutex_lock(&l->mu);
+    while (LOG_CAP - l->len < n) { /* the writer is behind: catch up here */
+        pthread_mutex_unlock(&l->mu);
+        srv_log_flush(l);
+        pthread_mutex_lock(&l->mu);
+    }
+    size_t before = l->len;
+    memcpy(l->buf + before, p, n);
+    l->len = before + n;
+    /* Wake the writer for a first line (it sleeps without a deadline) and
+     * when half full (it should not wait for its deadline). */
+    if (before == 0 || (before < LOG_CAP / 2 && l->len >= LOG_CAP / 2))
+        pthread_cond_signal(&l->cv);
+    pthread_mutex_unlock(&l->mu);
+}
+
+void srv_log_access(srv_log *l, const srv_access *a) {
+    char text[SRV_ACCESS_LINE_MAX];
+    size_t n = srv_access_format(a, text, sizeof text);
+    log_append(l, text, n);
+}
+
+void srv_log_text(srv_log *l, const char *text, size_t n) {
+    while (n > 0) {
+        size_t k = n < LOG_CAP ? n : LOG_CAP;
+        log_append(l, text, k);
+        text += k;
+        n -= k;
+    }
+    srv_log_flush(l);
+}
+
+void srv_log_free(srv_log *l) {
+    if (l == NULL) return;
+    pthread_mutex_lock(&l->mu);
+    l->stop = 1;
+    pthread_cond_signal(&l->cv);
+    pthread_mutex_unlock(&l->mu);
+    pthread_join(l->thread, NULL);
+    srv_log_flush(l);
+    pthread_cond_destroy(&l->cv);
+    pthread_mutex_destroy(&l->write_mu);
+    pthread_mutex_destroy(&l->mu);
+    free(l->buf);
+    free(l->out);
+    free(l);
 }

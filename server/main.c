@@ -68,6 +68,7 @@ int main(int argc, char **argv) {
 
     int sig = 0;
     sigwait(&sigs, &sig);
+    srv_server_flush_log(s);
     fprintf(stderr, "voronoid: %s: draining %zu request(s), grace %g s\n",
             sig == SIGINT ? "SIGINT" : "SIGTERM", srv_server_in_flight(s),
             cfg.grace);
@@ -79,11 +80,13 @@ int main(int argc, char **argv) {
     while (srv_server_wait_idle(s, 0.05) != 0 && waited < cfg.grace) {
         waited += 0.05;
         if (sigtimedwait(&sigs, NULL, &zero) > 0) {
+            srv_server_flush_log(s);
             fprintf(stderr, "voronoid: second signal: not waiting longer\n");
             break;
         }
     }
     if (srv_server_in_flight(s) > 0) {
+        srv_server_flush_log(s);
         fprintf(stderr, "voronoid: grace over: answering %zu request(s) "
                 "with 503\n", srv_server_in_flight(s));
         srv_server_cancel(s);

@@ -72,6 +72,10 @@
 /* Bodies up to this size may be computed inline (see run_inline): it
  * bounds what reading one costs the connection's thread, ~20 us. */
 #define SRV_INLINE_MAX_BODY 16384
+/* Longest time an access-log line waits in the buffer before it is
+ * written (accesslog.h): short enough for a person or a log shipper
+ * watching the file, long enough to write hundreds of lines at once. */
+#define SRV_LOG_DELAY_MS 20
 
 struct srv_server {
     srv_config cfg;
@@ -81,7 +85,7 @@ struct srv_server {
     srv_metrics *metrics;
     srv_assets *assets;
     int port;
-    int log_fd;
+    srv_log *log;         /* access lines and libmicrohttpd's messages */
     atomic_int draining;
     atomic_int closing;   /* srv_server_free began: no new computations */
     atomic_long in_flight;
@@ -1202,7 +1206,7 @@ static void on_completed(void *cls, struct MHD_Connection *conn,
         .request_id = q->id,
         .note = termination_note(toe),
     };
-    srv_access_write(s->log_fd, &e);
+    srv_log_access(s->log, &e);
     if (q->job != NULL) job_unref(q->job);
     free(q->body);
     free(q);
@@ -1221,8 +1225,7 @@ static void mhd_log(void *cls, const char *fmt, va_list ap) {
         size_t len = (size_t)k < sizeof line ? (size_t)k : sizeof line - 1;
         if (len > 0 && line[len - 1] != '\n' && len + 1 < sizeof line)
             line[len++] = '\n';
-        ssize_t w = write(s->log_fd, line, len);
-        (void)w;
+        srv_log_text(s->log, line, len);
     }
 }
 
@@ -1236,7 +1239,6 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
         return NULL;
     }
     s->cfg = *cfg;
-    s->log_fd = log_fd;
     s->quiesced_fd = MHD_INVALID_SOCKET;
     atomic_init(&s->draining, 0);
     atomic_init(&s->closing, 0);
@@ -1247,10 +1249,12 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     s->id_seed = ((uint64_t)ts.tv_sec << 32) ^ (uint64_t)ts.tv_nsec ^
                  ((uint64_t)getpid() << 16);
 
+    s->log = srv_log_new(log_fd, SRV_LOG_DELAY_MS);
     s->metrics = srv_metrics_new();
     s->assets = srv_assets_new(cfg->web_dir);
     s->pool = srv_pool_new(cfg->workers, cfg->queue);
-    if (s->metrics == NULL || s->assets == NULL || s->pool == NULL) {
+    if (s->log == NULL || s->metrics == NULL || s->assets == NULL ||
+        s->pool == NULL) {
         snprintf(err, err_size, "cannot allocate the service's state or "
                  "start its %d worker threads", cfg->workers);
         goto fail;
@@ -1301,11 +1305,14 @@ fail:
     srv_pool_free(s->pool, 0);
     srv_assets_free(s->assets);
     srv_metrics_free(s->metrics);
+    srv_log_free(s->log);
     free(s);
     return NULL;
 }
 
 int srv_server_port(const srv_server *s) { return s->port; }
+
+void srv_server_flush_log(srv_server *s) { srv_log_flush(s->log); }
 
 /* Draining stops new connections at the kernel: libmicrohttpd stops
  * accepting, and the listening socket is shut down (not closed: its threads
@@ -1350,9 +1357,12 @@ int srv_server_free(srv_server *s) {
     srv_pool_cancel_all(s->pool);
     MHD_stop_daemon(s->daemon);
     if (s->quiesced_fd != MHD_INVALID_SOCKET) close(s->quiesced_fd);
+    /* Every request has had its on_completed now: its line is in. */
+    srv_log_flush(s->log);
     if (srv_pool_free(s->pool, 0.5) != 0) return -1;
     srv_assets_free(s->assets);
     srv_metrics_free(s->metrics);
+    srv_log_free(s->log);
     free(s);
     return 0;
 }

@@ -24,12 +24,18 @@
 typedef struct srv_server srv_server;
 
 /* Starts the service described by cfg (copied). On failure returns NULL
- * with a one-line reason in err. log_fd receives the access log. */
+ * with a one-line reason in err. log_fd receives the access log
+ * (buffered: see srv_server_flush_log). */
 srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
                            size_t err_size);
 
 /* The port actually bound (useful when cfg->port was 0). */
 int srv_server_port(const srv_server *s);
+
+/* Writes out the access-log lines waiting in the buffer (they are written
+ * within a few milliseconds anyway): before a message of one's own on the
+ * same file, so the file stays in order. */
+void srv_server_flush_log(srv_server *s);
 
 /* Stops accepting new connections and turns /readyz to 503. Requests on
  * connections already open are still served (with Connection: close). */

@@ -216,6 +216,20 @@ IT_UNUSED static int it_cleanup(it_daemon *d) {
 
 IT_UNUSED static char *it_log(const it_daemon *d) { return it_read_file(d->log, NULL); }
 
+/* Whether the log comes to hold `text`: the daemon buffers access lines
+ * for a few milliseconds, so a line may follow its answer a little later.
+ * Waits up to a minute (a hang guard, not a timing requirement). */
+IT_UNUSED static int it_log_has(const it_daemon *d, const char *text) {
+    for (int i = 0; i < 6000; i++) {
+        char *log = it_log(d);
+        int found = log != NULL && strstr(log, text) != NULL;
+        free(log);
+        if (found) return 1;
+        it_sleep(0.01);
+    }
+    return 0;
+}
+
 /* ---- HTTP through libcurl ----------------------------------------------- */
 
 typedef struct it_req {
