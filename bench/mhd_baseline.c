@@ -2,7 +2,7 @@
  * request rate is compared with.
  *
  * It runs libmicrohttpd exactly as voronoid does (internal polling thread,
- * MHD_USE_POLL, a pool of 2 threads) and answers every request, whatever
+ * MHD_USE_POLL, a pool of threads: 2 unless told otherwise) and answers every request, whatever
  * its method, path and body, with the same tiny fixed JSON body once the
  * request body has been read and dropped. The response is queued on the
  * handler's second call or later, never the first, as voronoid does
@@ -10,8 +10,10 @@
  * between this server's requests per second and voronoid's on the same
  * load is what parsing, computing and writing a diagram costs.
  *
- * usage: mhd_baseline PORT   (127.0.0.1 only; runs until SIGINT or SIGTERM,
- *                              prints "ready PORT" once listening)
+ * usage: mhd_baseline PORT [THREADS]   (127.0.0.1 only; THREADS is the
+ *        size of libmicrohttpd's thread pool, 2 by default, to be given
+ *        the same as voronoid's --http-threads; runs until SIGINT or
+ *        SIGTERM, prints "ready PORT" once listening)
  */
 #include <microhttpd.h>
 #include <netinet/in.h>
@@ -46,9 +48,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn,
 }
 
 int main(int argc, char **argv) {
-    long port = argc == 2 ? strtol(argv[1], NULL, 10) : 0;
-    if (port <= 0 || port > 65535) {
-        fputs("usage: mhd_baseline PORT\n", stderr);
+    long port = argc == 2 || argc == 3 ? strtol(argv[1], NULL, 10) : 0;
+    long threads = argc == 3 ? strtol(argv[2], NULL, 10) : 2;
+    if (port <= 0 || port > 65535 || threads < 1 || threads > 64) {
+        fputs("usage: mhd_baseline PORT [THREADS]\n", stderr);
         return 2;
     }
     sigset_t stop;
@@ -74,7 +77,7 @@ int main(int argc, char **argv) {
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     struct MHD_Daemon *d = MHD_start_daemon(
         MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_POLL, (uint16_t)port, NULL,
-        NULL, handle, resp, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)2,
+        NULL, handle, resp, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)threads,
         MHD_OPTION_SOCK_ADDR, (const struct sockaddr *)&addr,
         MHD_OPTION_CONNECTION_LIMIT, (unsigned)1024, MHD_OPTION_END);
     if (!d) {
