@@ -87,9 +87,6 @@
 #define NO_EVENT UINT32_MAX /* arc without a circle event */
 #define NO_EDGE UINT32_MAX  /* rightmost arc: no breakpoint to its right */
 #define NO_END (-1)         /* edge record: no end yet */
-#define DEAD_ARC UINT32_MAX /* site of a freed arc */
-#define HASH_PROBE 8        /* strips tried on each side in locate() */
-#define HASH_WALK 32        /* arcs walked before locate() uses the tree */
 
 typedef struct arc {
     double xy[2];             /* the arc's site */
@@ -143,13 +140,6 @@ typedef struct sweep {
     size_t n_edges, cap_edges;
     uint32_t free_edges; /* NO_EDGE if none */
     uint32_t row;
-
-    /* Where to start looking for the arc above a site: hash[k] is an arc
-     * recently found in the k-th of n_hash vertical strips of the sites'
-     * x range, as (site << 32 | arc), or 0; see locate(). */
-    uint64_t *hash;
-    uint32_t n_hash;
-    double hash_x0, hash_scale;
 
     /* The mesh: finite triangles in the order of their events, then the
      * ghosts. */
@@ -420,9 +410,7 @@ static uint32_t arc_new(sweep *w, uint32_t s) {
     return a;
 }
 
-/* A freed arc's site is DEAD_ARC, which locate() relies on. */
 static void arc_free(sweep *w, uint32_t a) {
-    w->arcs[a].site = DEAD_ARC; /* a stale strip entry no longer matches */
     w->arcs[a].next = w->free_arcs;
     w->free_arcs = a;
 }
@@ -640,38 +628,6 @@ static void remove_arc(sweep *w, uint32_t z) {
     RED(NIL) = 0;
 }
 
-/* Sets up the strips of locate(): about 2 sqrt(n) of them over the sites'
- * x range (one strip when the range is empty or not representable, which
- * only costs speed). hash_scale is finite and (p.x - hash_x0) * hash_scale
- * is finite for every site p. 0, or -1 if out of memory. */
-static int hash_init(sweep *w) {
-    double x0 = w->xy[0], x1 = w->xy[0];
-    for (size_t j = 1; j < w->n; j++) {
-        double x = w->xy[2 * j];
-        if (x < x0) x0 = x;
-        if (x > x1) x1 = x;
-    }
-    uint32_t m = (uint32_t)(2 * sqrt((double)w->n)) + 1;
-    double scale = (double)m / (x1 - x0);
-    if (!(x1 - x0 < INFINITY) || !(scale < INFINITY)) {
-        m = 1;
-        scale = 0;
-    }
-    w->hash = calloc(m, sizeof *w->hash); /* all NIL */
-    w->n_hash = m;
-    w->hash_x0 = x0;
-    w->hash_scale = scale;
-    return w->hash ? 0 : -1;
-}
-
-/* The arc of strip k, or NIL if there is none or it has been freed (its
- * slot may since hold another site's arc, anywhere). */
-static inline uint32_t hash_arc(const sweep *w, uint32_t k) {
-    uint64_t h = w->hash[k];
-    uint32_t x = (uint32_t)h;
-    return x != NIL && w->arcs[x].site == (uint32_t)(h >> 32) ? x : NIL;
-}
-
 /* Side of p (on the sweep line) against arc x's left breakpoint: > 0 if
  * the breakpoint is left of p (or x is the leftmost arc), < 0 if right of
  * it, 0 if exactly above p. */
@@ -681,8 +637,10 @@ static inline int bp_side(const sweep *w, uint32_t x, const double *p) {
                            : vor__fortune_bp_side(ax->lxy, ax->xy, p, w->safe);
 }
 
-/* locate() by the tree: O(log n) breakpoint tests. */
-static uint32_t locate_tree(const sweep *w, const double *p, int *on) {
+/* The arc above site p (sweep line at p.y): the last arc whose left
+ * breakpoint is not right of p. *on is set when p is exactly below that
+ * breakpoint. O(log n) breakpoint tests. */
+static uint32_t locate(const sweep *w, const double *p, int *on) {
     const arc *arcs = w->arcs;
     uint32_t x = w->root, found = NIL;
     *on = 0;
@@ -700,59 +658,6 @@ static uint32_t locate_tree(const sweep *w, const double *p, int *on) {
     }
     assert(found != NIL);
     return found;
-}
-
-/* The arc above site p (sweep line at p.y): the last arc whose left
- * breakpoint is not right of p. *on is set when p is exactly below that
- * breakpoint (there is at most one such breakpoint: two at one point would
- * enclose an arc of zero length, whose circle event, at p or before it,
- * has been handled).
- *
- * The search starts at the arc last found in p's strip of x (or a nearby
- * strip) and walks the beach line with the same exact breakpoint test;
- * for uniform sites that is a few tests instead of the tree's log n. A
- * strip without a live arc nearby, or a walk longer than HASH_WALK arcs,
- * falls back to the tree, which keeps the O(log n) bound. Either way the
- * answer is the same, the one arc the definition names. */
-static uint32_t locate(sweep *w, const double *p, int *on) {
-    double f = (p[0] - w->hash_x0) * w->hash_scale; /* finite, see hash_init */
-    uint32_t k = !(f > 0) ? 0
-                 : f >= (double)(w->n_hash - 1) ? w->n_hash - 1
-                                                : (uint32_t)f;
-    uint32_t x = NIL;
-    for (uint32_t d = 0; d <= HASH_PROBE && x == NIL; d++) {
-        x = hash_arc(w, k >= d ? k - d : 0);
-        if (x == NIL) x = hash_arc(w, k + d < w->n_hash ? k + d : w->n_hash - 1);
-    }
-    *on = 0;
-    if (x != NIL) {
-        int side = bp_side(w, x, p);
-        int steps = 0;
-        if (side < 0) { /* p is left of x: walk left to a side >= 0 */
-            do {
-                x = w->arcs[x].prev;
-                side = bp_side(w, x, p);
-            } while (side < 0 && ++steps < HASH_WALK);
-        } else if (side > 0) { /* walk right while the next arc's is > 0 */
-            for (;;) {
-                uint32_t y = w->arcs[x].next;
-                if (y == NIL) break;
-                int sy = bp_side(w, y, p);
-                if (sy < 0) break;
-                x = y;
-                side = sy;
-                if (sy == 0 || ++steps >= HASH_WALK) break;
-            }
-        }
-        if (steps >= HASH_WALK) {
-            x = NIL;
-        } else {
-            *on = side == 0;
-        }
-    }
-    if (x == NIL) x = locate_tree(w, p, on);
-    w->hash[k] = (uint64_t)w->arcs[x].site << 32 | x;
-    return x;
 }
 
 /* ---- Event heap ---------------------------------------------------------- */
@@ -1091,7 +996,6 @@ static void sweep_free(sweep *w) {
     free(w->recs);
     free(w->cache);
     free(w->ehe);
-    free(w->hash);
     free(w->tri);
     free(w->adj);
     vor__fortune_ws_free(w->ws);
@@ -1160,7 +1064,7 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
     w.ws = vor__fortune_ws_new();
     if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.ehe ||
-        !w.tri || !w.adj || !w.ws || hash_init(&w))
+        !w.tri || !w.adj || !w.ws)
         goto fail;
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
     w.red[NIL] = 0;
