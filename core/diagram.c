@@ -501,9 +501,12 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     /* Coordinates, allocated only now to keep the peak low while sorting. */
     d->vertex_xy = xmalloc(2 * nv, sizeof(double));
     if (!d->vertex_xy) goto fail;
-    for (size_t v = 0; v < nv; v++)
-        vor_circumcenter(xy + 2 * (size_t)vs[3 * v], xy + 2 * (size_t)vs[3 * v + 1],
-                         xy + 2 * (size_t)vs[3 * v + 2], d->vertex_xy + 2 * v);
+    for (size_t v = 0; v < nv; v++) {
+        const double *a = xy + 2 * (size_t)vs[3 * v], *b = xy + 2 * (size_t)vs[3 * v + 1],
+                     *c = xy + 2 * (size_t)vs[3 * v + 2];
+        if (!vor__circumcenter_fast(a, b, c, d->vertex_xy + 2 * v))
+            vor_circumcenter(a, b, c, d->vertex_xy + 2 * v);
+    }
 
     /* 5. Orientation of each edge around its sites, decided exactly: around
      * site a the walk runs towards the vertex whose other sites lie to the

@@ -37,12 +37,6 @@
 _Static_assert(LDBL_MAX_EXP >= 4096 && LDBL_MIN_EXP <= -4096,
                "geometry.c needs a long double with a wide exponent range");
 
-/* Nonzero |v| within the double path's window; zero counts as inside. */
-static inline int in_window(double v) {
-    double m = fabs(v);
-    return m == 0 || (m >= 0x1p-300 && m <= 0x1p300);
-}
-
 /* The same formula in long double, from the original coordinates, with
  * the determinant computed exactly and then rounded (so that a very flat
  * triangle, whose rounded determinant may be 0 or of the wrong size, still
@@ -64,18 +58,9 @@ static void circumcenter_long(const double *a, const double *b,
 
 void vor_circumcenter(const double *a, const double *b, const double *c,
                       double *out) {
-    double bx = b[0] - a[0], by = b[1] - a[1];
-    double cx = c[0] - a[0], cy = c[1] - a[1];
-    if (in_window(bx) & in_window(by) & in_window(cx) & in_window(cy)) {
-        double d = 2 * (bx * cy - by * cx);
-        if (d != 0) {
-            double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-            out[0] = a[0] + (cy * b2 - by * c2) / d + 0.0;
-            out[1] = a[1] + (bx * c2 - cx * b2) / d + 0.0;
-            return;
-        }
-    }
-    circumcenter_long(a, b, c, out);
+    /* the double path is inlined in predicates.h for the hot loops */
+    if (!vor__circumcenter_fast(a, b, c, out))
+        circumcenter_long(a, b, c, out);
 }
 
 void vor_bisector_dir(const double *a, const double *b, double *out) {

@@ -445,8 +445,10 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
             __builtin_prefetch(sxy + 2 * (size_t)vs[3 * (v + AHEAD) + 1]);
             __builtin_prefetch(sxy + 2 * (size_t)vs[3 * (v + AHEAD) + 2]);
         }
-        vor_circumcenter(sxy + 2 * (size_t)vs[3 * v], sxy + 2 * (size_t)vs[3 * v + 1],
-                         sxy + 2 * (size_t)vs[3 * v + 2], d->vertex_xy + 2 * v);
+        const double *a = sxy + 2 * (size_t)vs[3 * v], *b = sxy + 2 * (size_t)vs[3 * v + 1],
+                     *c = sxy + 2 * (size_t)vs[3 * v + 2];
+        if (!vor__circumcenter_fast(a, b, c, d->vertex_xy + 2 * v))
+            vor_circumcenter(a, b, c, d->vertex_xy + 2 * v);
     }
 }
 

@@ -81,6 +81,8 @@
 #define VOR_PREDICATES_H
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "internal.h"
 
@@ -163,6 +165,46 @@ static inline int vor__incircle_fast(const double *a, const double *b,
                                      const double *c, const double *d) {
     int s = vor__incircle_filter(a, b, c, d);
     return s ? s : vor__incircle_exact(a, b, c, d);
+}
+
+/* ---- Circumcentre, double path ---------------------------------------------
+ * vor_circumcenter (geometry.c, where the formula and its range are
+ * explained) is this double evaluation, with a long double fallback for
+ * what it refuses: a coordinate difference outside [2^-300, 2^300] (0 is
+ * fine) or a determinant that rounds to 0. Inlined here for the loops that
+ * compute every vertex of a diagram; since vor_circumcenter itself calls
+ * it, the two give the same bits. */
+
+/* Nonzero |v| within the double path's window [2^-300, 2^300]; zero counts
+ * as inside; inf and nan do not. On the bits: non-negative doubles are
+ * ordered as their bit patterns are as integers, so the window is one
+ * unsigned range check on |v|'s bits, without branches. */
+static inline int vor__cc_in_window(double v) {
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    u &= 0x7fffffffffffffffu;
+    const uint64_t lo = 0x2d30000000000000u; /* 2^-300: exponent 723 */
+    const uint64_t hi = 0x52b0000000000000u; /* 2^300: exponent 1323 */
+    return (u == 0) | (u - lo <= hi - lo);
+}
+
+/* Writes the centre of the circle through a, b, c to out[0..1] and
+ * returns 1, or returns 0 with out untouched when the double path does not
+ * apply (then vor_circumcenter's fallback must be used). */
+static inline int vor__circumcenter_fast(const double *a, const double *b,
+                                         const double *c, double *out) {
+    double bx = b[0] - a[0], by = b[1] - a[1];
+    double cx = c[0] - a[0], cy = c[1] - a[1];
+    if (!(vor__cc_in_window(bx) & vor__cc_in_window(by) &
+          vor__cc_in_window(cx) & vor__cc_in_window(cy)))
+        return 0;
+    double d = 2 * (bx * cy - by * cx);
+    if (d == 0)
+        return 0;
+    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    out[0] = a[0] + (cy * b2 - by * c2) / d + 0.0; /* + 0.0: no -0.0 */
+    out[1] = a[1] + (bx * c2 - cx * b2) / d + 0.0;
+    return 1;
 }
 
 #endif /* VOR_PREDICATES_H */

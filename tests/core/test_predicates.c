@@ -682,6 +682,57 @@ static int report_total(void **state) {
     return 0;
 }
 
+/* vor__circumcenter_fast decides its window on the bits of the
+ * differences; the plain comparisons of the definition are the oracle, at
+ * the window's edges (one ulp either side), at zeros, subnormals, inf and
+ * nan, and the centre it writes must be the plain formula's. */
+static int window_oracle(double v) {
+    double m = fabs(v);
+    return m == 0 || (m >= 0x1p-300 && m <= 0x1p300);
+}
+
+static void test_circumcenter_window(void **state) {
+    (void)state;
+    const double edges[] = {0x1p-300, 0x1p300, 1.0, 0x1p-1074, DBL_MIN, DBL_MAX};
+    double vals[64];
+    size_t nv = 0;
+    for (size_t i = 0; i < sizeof edges / sizeof *edges; i++) {
+        double e = edges[i];
+        double around[3] = {nextafter(e, 0), e, nextafter(e, INFINITY)};
+        for (int k = 0; k < 3; k++) {
+            vals[nv++] = around[k];
+            vals[nv++] = -around[k];
+        }
+    }
+    vals[nv++] = 0.0;
+    vals[nv++] = -0.0;
+    vals[nv++] = INFINITY;
+    vals[nv++] = -INFINITY;
+    vals[nv++] = NAN;
+    for (size_t i = 0; i < nv; i++)
+        assert_int_equal(vor__cc_in_window(vals[i]), window_oracle(vals[i]));
+
+    /* b - a takes each value; the centre is written exactly when the
+     * plain formula's conditions hold, and then equals it */
+    for (size_t i = 0; i < nv; i++) {
+        double a[2] = {0, 0}, b[2] = {vals[i], 1}, c[2] = {1, 0};
+        double out[2] = {42, 42};
+        int ok = vor__circumcenter_fast(a, b, c, out);
+        double bx = b[0], by = b[1], cx = c[0], cy = c[1];
+        double d = 2 * (bx * cy - by * cx);
+        int want = window_oracle(bx) && d != 0;
+        assert_int_equal(ok, want);
+        if (!ok) {
+            assert_true(out[0] == 42 && out[1] == 42);
+            continue;
+        }
+        double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+        double x = (cy * b2 - by * c2) / d + 0.0, y = (bx * c2 - cx * b2) / d + 0.0;
+        assert_memory_equal(&out[0], &x, sizeof x);
+        assert_memory_equal(&out[1], &y, sizeof y);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_basic_signs),
@@ -694,6 +745,7 @@ int main(void) {
         cmocka_unit_test(test_integer_lattices),
         cmocka_unit_test(test_random_bulk),
         cmocka_unit_test(test_orient_value),
+        cmocka_unit_test(test_circumcenter_window),
     };
     return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
                                        report_total);
