@@ -2,11 +2,13 @@
  * request rate is compared with.
  *
  * It runs libmicrohttpd exactly as voronoid does (internal polling thread,
- * MHD_USE_POLL, a pool of threads: 2 unless told otherwise) and answers every request, whatever
- * its method, path and body, with the same tiny fixed JSON body once the
- * request body has been read and dropped. The response is queued on the
- * handler's second call or later, never the first, as voronoid does
- * (queueing on the first forces "Connection: close"). The difference
+ * MHD_USE_POLL, a pool of threads: 2 unless told otherwise, 16 KiB of
+ * memory per connection as SRV_CONNECTION_MEMORY in server/server.c) and
+ * answers every request, whatever its method, path and body, with the
+ * same tiny fixed JSON body once the request body has been read and
+ * dropped. The response is queued on the handler's second call or later,
+ * never the first, as voronoid does (queueing on the first forces
+ * "Connection: close"). The difference
  * between this server's requests per second and voronoid's on the same
  * load is what parsing, computing and writing a diagram costs.
  *
@@ -79,7 +81,8 @@ int main(int argc, char **argv) {
         MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_POLL, (uint16_t)port, NULL,
         NULL, handle, resp, MHD_OPTION_THREAD_POOL_SIZE, (unsigned)threads,
         MHD_OPTION_SOCK_ADDR, (const struct sockaddr *)&addr,
-        MHD_OPTION_CONNECTION_LIMIT, (unsigned)1024, MHD_OPTION_END);
+        MHD_OPTION_CONNECTION_LIMIT, (unsigned)1024,
+        MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(16 * 1024), MHD_OPTION_END);
     if (!d) {
         fprintf(stderr, "mhd_baseline: cannot listen on 127.0.0.1:%ld\n",
                 port);
