@@ -758,6 +758,16 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
     return ev_tie(w, x->rec, y->rec);
 }
 
+/* Index of the earlier of children c and c + 1 (c + 1 < n_heap): the
+ * interval test picks without branching in the usual case that it
+ * decides. */
+static inline uint32_t earlier_child(sweep *w, uint32_t c) {
+    const event *x = &w->heap[c + 1], *y = &w->heap[c];
+    int lt = x->hi < y->lo, gt = y->hi < x->lo;
+    if (lt | gt) return c + (uint32_t)lt;
+    return c + (uint32_t)ev_tie(w, x->rec, y->rec);
+}
+
 static inline void heap_put(sweep *w, uint32_t pos, event e) {
     w->heap[pos] = e;
     w->recs[e.rec].pos = pos;
@@ -779,7 +789,7 @@ static void sift_down(sweep *w, uint32_t pos, event e) {
     for (;;) {
         uint32_t c = 2 * pos + 1;
         if (c >= n) break;
-        if (c + 1 < n && ev_before(w, &w->heap[c + 1], &w->heap[c])) c++;
+        if (c + 1 < n) c = earlier_child(w, c);
         if (!ev_before(w, &w->heap[c], &e)) break;
         heap_put(w, pos, w->heap[c]);
         pos = c;
@@ -797,7 +807,7 @@ static void heap_remove(sweep *w, uint32_t pos) {
     for (;;) {
         uint32_t c = 2 * pos + 1;
         if (c >= n) break;
-        if (c + 1 < n && ev_before(w, &w->heap[c + 1], &w->heap[c])) c++;
+        if (c + 1 < n) c = earlier_child(w, c);
         heap_put(w, pos, w->heap[c]);
         pos = c;
     }
