@@ -98,41 +98,42 @@ static vor_status insert(bw *st, uint32_t p) {
      *             t0
      */
     uint32_t *cav = st->cav, *bnd = st->bnd;
-    size_t cap = st->cap, ncav = 1, nb = 0;
+    /* room: each step adds at most one entry to cav or bnd, and the star
+     * below adds two to cav; one test covers both arrays */
+    size_t room = st->cap - 3, ncav = 1, nb = 0;
     cav[0] = t0;
     tri[3 * t0] = MARK;
     uint32_t e0 = 3 * t0, e = e0;
     do {
-        if (ncav + 3 > cap || nb + 1 > cap) {
+        if (ncav + nb > room) {
             if (grow(st))
                 return VOR_ENOMEM;
             cav = st->cav;
             bnd = st->bnd;
-            cap = st->cap;
+            room = st->cap - 3;
         }
         uint32_t f = (uint32_t)adj[e];
-        uint32_t u = f / 3, k = f - 3 * u;
-        uint32_t nf = k == 2 ? f - 2 : f + 1;
-        uint32_t a = tri[f], b = tri[nf];
+        uint32_t base = f / 3 * 3, k = f - base;
+        uint32_t nf = k == 2 ? base : f + 1;
+        if (tri[base] == MARK) { /* back into the triangle we came from */
+            e = nf;
+            continue;
+        }
+        uint32_t a = tri[f], b = tri[nf], c = tri[base + (k == 0 ? 2 : k - 1)];
         int in;
-        if (tri[3 * u] == MARK) {
-            in = 1;
+        if (((a | b | c) >> 30) == 0) {
+            /* no vertex is the ghost: site ids are < 2^30 (mesh.h) */
+            in = vor__incircle_fast(XY(a), XY(b), XY(c), pp) > 0;
+        } else if (c == VOR__GHOST) {
+            in = vor__ghost_conflict(XY(a), XY(b), pp);
+        } else if (a == VOR__GHOST) {
+            in = vor__ghost_conflict(XY(b), XY(c), pp);
         } else {
-            uint32_t c = tri[k == 0 ? f + 2 : f - 1];
-            if (c == VOR__GHOST)
-                in = vor__ghost_conflict(XY(a), XY(b), pp);
-            else if (a == VOR__GHOST)
-                in = vor__ghost_conflict(XY(b), XY(c), pp);
-            else if (b == VOR__GHOST)
-                in = vor__ghost_conflict(XY(c), XY(a), pp);
-            else
-                in = vor__incircle_fast(XY(a), XY(b), XY(c), pp) > 0;
-            if (in) {
-                tri[3 * u] = MARK;
-                cav[ncav++] = u;
-            }
+            in = vor__ghost_conflict(XY(c), XY(a), pp);
         }
         if (in) {
+            tri[base] = MARK;
+            cav[ncav++] = base / 3;
             e = nf;
         } else {
             bnd[nb++] = f;
