@@ -66,11 +66,12 @@
  * (O(log n) breakpoint predicates), each event O(log n) heap and tree work;
  * about 1 us of CPU per uniform site at 10^6 sites, of which the heap takes a
  * third, the circle-top filter a seventh. Exact arithmetic runs only near
- * degeneracies. Memory: the sorted copy (20 bytes per site; the sort needs
- * 48 more while it runs), the mesh (2n - 2 triangles with ghosts, 48 bytes
- * per site), edge records (at most 3n, 4 bytes each), the beach line and
- * heap (O(sqrt n) arcs for typical input, at most 2n). The edge records and
- * the beach line are freed before the conversion, which owns the rest.
+ * degeneracies. Memory: the sorted copy (20 bytes per site), the mesh
+ * (2n - 2 triangles with ghosts, 48 bytes per site, in which the sort runs
+ * before the sweep), edge records (at most 3n, 4 bytes each, few of them
+ * ever touched), the beach line and heap (O(sqrt n) arcs for typical
+ * input, at most 2n). The edge records and the beach line are freed before
+ * the conversion, which owns the rest.
  */
 #include <assert.h>
 #include <float.h>
@@ -254,15 +255,19 @@ static void sort_runs(keyed *r, size_t n) {
 
 /* Fills w->xy and w->orig: the sites sorted by (y, x), multiplied by
  * `scale` (a power of two for which that is exact). Fewer than SMALL_SORT
- * sites: one qsort. Otherwise a radix sort on the top bits of y, then runs of equal top bits (and of equal y) sorted by
- * (y, x): insertion sort for short runs, qsort for long ones. */
+ * sites: one qsort. Otherwise a radix sort on the top bits of y, then runs
+ * of equal top bits (and of equal y) sorted by (y, x): insertion sort for
+ * short runs, qsort for long ones. The sort's two arrays of n keyed sites
+ * are the mesh arrays w->tri and w->adj, not yet used (each holds at least
+ * n keyed sites, see vor__fortune), so that their pages are touched once:
+ * fresh pages cost a fault and zeroing each. */
 static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     size_t n = s->n;
-    keyed *a = malloc(n * sizeof *a), *tmp = malloc(n * sizeof *tmp);
+    keyed *a = (keyed *)(void *)w->tri, *tmp = (keyed *)(void *)w->adj;
     w->xy = malloc(2 * n * sizeof *w->xy);
     w->orig = malloc(n * sizeof *w->orig);
     vor_status st = VOR_ENOMEM;
-    if (!a || !tmp || !w->xy || !w->orig) goto done;
+    if (!w->xy || !w->orig) goto done;
     for (size_t j = 0; j < n; j++) {
         a[j].k = dkey(s->xy[2 * j + 1]);
         a[j].x = s->xy[2 * j];
@@ -287,8 +292,6 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     }
     st = VOR_OK;
 done:
-    free(a);
-    free(tmp);
     return st;
 }
 
@@ -1042,7 +1045,7 @@ static void close_hull(sweep *w, uint32_t first) {
         w->adj[a] = (int32_t)b;
         w->adj[b] = (int32_t)a;
     }
-    assert(w->n_tri == w->cap_tri);
+    assert(w->n_tri == 2 * w->n - 2); /* Euler */
 }
 
 vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
@@ -1056,6 +1059,16 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.n = s->n;
     vor_status st;
     double scale = choose_scale(s, &w.safe);
+    /* 2n triangles' room, of which the mesh uses 2n - 2 (Euler, ghosts
+     * included): 24n bytes each for tri and adj, the room of n keyed
+     * sites, which the sort borrows first */
+    _Static_assert(sizeof(keyed) <= 3 * 2 * sizeof(uint32_t),
+                   "the sort fits in the mesh arrays");
+    st = VOR_ENOMEM;
+    w.cap_tri = 2 * w.n;
+    w.tri = vor__alloc_large(3 * w.cap_tri, sizeof *w.tri);
+    w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
+    if (!w.tri || !w.adj) goto fail;
     if ((st = sort_sites(&w, s, scale)) != VOR_OK) goto fail;
 
     st = VOR_ENOMEM;
@@ -1069,9 +1082,6 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.cap_edges = 3 * w.n;
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
-    w.cap_tri = 2 * w.n - 2; /* Euler, ghosts included */
-    w.tri = vor__alloc_large(3 * w.cap_tri, sizeof *w.tri);
-    w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
     w.ws = vor__fortune_ws_new();
     if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.ehe ||
         !w.tri || !w.adj || !w.ws)
