@@ -20,7 +20,7 @@
  *     a doubly linked list. A breakpoint is not stored: an arc's site and its
  *     left neighbour's define it, and both are copied into the arc (one
  *     64-byte record), so that each level of the search reads one cache line.
- *     An arc stores the raw edge traced by the breakpoint to its right.
+ *     An arc stores the edge record of the breakpoint to its right.
  *   - Circle events: a binary min-heap of 24-byte entries (an interval for
  *     the event's y and a record index) holding only live events, at most
  *     one per arc; the record holds the arc, the heap position and the

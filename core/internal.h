@@ -8,8 +8,11 @@
  *      diagram of parallel lines is built by vor__diagram_degenerate(); the
  *      algorithms below are never called for such input.
  *   2. otherwise the algorithm's entry point; every one has the signature
- *      vor__algorithm_fn and fills the diagram through vor__diagram_build(),
- *      which alone decides the canonical form.
+ *      vor__algorithm_fn and builds a Delaunay mesh (Fortune's sweep finds
+ *      its triangles as vertex events), which vor__mesh_dual() (mesh.h)
+ *      reads the diagram off. vor__diagram_build() alone defines the
+ *      canonical form: vor__mesh_dual() produces the same bits without its
+ *      sorting, and falls back to it when sites are cocircular.
  */
 #ifndef VOR_INTERNAL_H
 #define VOR_INTERNAL_H
