@@ -354,29 +354,27 @@ static void edge_end(sweep *w, uint32_t e, uint32_t h) {
     w->free_edges = e;
 }
 
-/* Triangle (a, b, c) of sorted site ids, counter-clockwise; returns its
- * first half-edge (a->b). */
-static uint32_t tri_new(sweep *w, uint32_t a, uint32_t b, uint32_t c) {
+/* Appends triangle (a, b, c); returns its first half-edge (a->b). */
+static uint32_t tri_put(sweep *w, uint32_t a, uint32_t b, uint32_t c) {
     size_t t = w->n_tri++;
     assert(t < w->cap_tri);
     uint32_t *v = w->tri + 3 * t;
     v[0] = a;
     v[1] = b;
     v[2] = c;
-    assert(vor_orient2d(site_xy(w, a), site_xy(w, b), site_xy(w, c)) > 0);
     return 3 * (uint32_t)t;
+}
+
+/* Triangle (a, b, c) of sorted site ids, counter-clockwise. */
+static uint32_t tri_new(sweep *w, uint32_t a, uint32_t b, uint32_t c) {
+    assert(vor_orient2d(site_xy(w, a), site_xy(w, b), site_xy(w, c)) > 0);
+    return tri_put(w, a, b, c);
 }
 
 /* Ghost triangle (p, q, GHOST) beyond hull half-edge q->p; returns its
  * half-edge p->q. */
 static uint32_t tri_ghost(sweep *w, uint32_t p, uint32_t q) {
-    size_t t = w->n_tri++;
-    assert(t < w->cap_tri);
-    uint32_t *v = w->tri + 3 * t;
-    v[0] = p;
-    v[1] = q;
-    v[2] = VOR__GHOST;
-    return 3 * (uint32_t)t;
+    return tri_put(w, p, q, VOR__GHOST);
 }
 
 /* ---- Arc pool ------------------------------------------------------------ */
