@@ -214,39 +214,49 @@ static int build_records(dual *D) {
     const uint32_t *order = D->order, *outl = D->outl, *cs = D->d->cell_start;
     uint64_t *rwt = D->rwt;
     uint32_t *rx = D->d->cell_edges;
-    uint32_t fan[BLOCK][BLOCK_FAN], cur[BLOCK];
-    uint8_t fdeg[BLOCK];
+    /* per vertex of the block: its fan's half-edges and neighbours so far,
+     * where its walk is, and the vertices still walking */
+    uint32_t fan[BLOCK][BLOCK_FAN], fanw[BLOCK][BLOCK_FAN], cur[BLOCK];
+    uint8_t fdeg[BLOCK], act[BLOCK];
 
     for (size_t v = 0; v < n; v++) {
         const size_t j = v % BLOCK;
         if (j == 0) {
-            /* walk the block's fans together: their misses overlap */
+            /* walk the block's fans together: their misses overlap. A
+             * vertex leaves the active list when its fan closes, or when
+             * it is too long (fdeg 0: walked again, alone) */
             const size_t nb = n - v < BLOCK ? n - v : BLOCK;
+            size_t na = nb;
             for (size_t b = 0; b < nb; b++) {
                 cur[b] = outl[v + b];
                 fdeg[b] = 0;
+                act[b] = (uint8_t)b;
             }
-            for (int active = 1; active;) {
-                active = 0;
-                for (size_t b = 0; b < nb; b++) {
+            while (na) {
+                for (size_t i = 0; i < na;) {
+                    const size_t b = act[i];
                     uint32_t e = cur[b];
-                    if (e == UINT32_MAX) continue;
-                    if (fdeg[b] == BLOCK_FAN) { /* too long: walked alone */
+                    if (fdeg[b] == BLOCK_FAN) {
                         fdeg[b] = 0;
-                        cur[b] = UINT32_MAX;
+                        act[i] = act[--na];
                         continue;
                     }
-                    fan[b][fdeg[b]++] = e;
                     uint32_t w = tri[vor__next(e)];
+                    fan[b][fdeg[b]] = e;
+                    fanw[b][fdeg[b]++] = w;
                     if (w != VOR__GHOST) {
                         __builtin_prefetch(order + w);
                         __builtin_prefetch(lxy + 2 * (size_t)w);
                     }
                     e = (uint32_t)adj[vor__prev(e)];
+                    if (e == fan[b][0]) {
+                        act[i] = act[--na];
+                        continue;
+                    }
                     __builtin_prefetch(adj + e);
                     __builtin_prefetch(tri + e);
-                    cur[b] = e == fan[b][0] ? UINT32_MAX : e;
-                    active = 1;
+                    cur[b] = e;
+                    i++;
                 }
             }
         }
@@ -259,18 +269,21 @@ static int build_records(dual *D) {
             __builtin_prefetch(rx + q, 1);
         }
         size_t deg = fdeg[j];
+        const uint32_t *he, *wl, *ws = D->ws;
         if (deg) { /* fits the scratch: cap >= 64 > BLOCK_FAN */
+            he = fan[j];
+            wl = fanw[j];
             for (size_t k = 0; k < deg; k++) {
-                uint32_t e = fan[j][k], w = tri[vor__next(e)];
-                D->he[k] = e;
-                D->wl[k] = w;
+                uint32_t w = wl[k];
                 D->ws[k] = w == VOR__GHOST ? VOR__GHOST : order[w];
             }
         } else {
             int r = walk_fan(D, outl[v], &deg);
             if (r != PASS_OK) return r;
+            he = D->he;
+            wl = D->wl;
+            ws = D->ws; /* walk_fan may have grown the scratch */
         }
-        const uint32_t *he = D->he, *wl = D->wl, *ws = D->ws;
         const double *pv = XY(v);
 
         /* interior edges to vertices visited later: not cocircular? */
