@@ -123,7 +123,7 @@ static vor_status insert(bw *st, uint32_t p) {
         int in;
         if (((a | b | c) >> 30) == 0) {
             /* no vertex is the ghost: site ids are < 2^30 (mesh.h) */
-            in = vor__incircle_fast(XY(a), XY(b), XY(c), pp) > 0;
+            in = vor__incircle_static(XY(a), XY(b), XY(c), pp, st->w.icc) > 0;
         } else if (c == VOR__GHOST) {
             in = vor__ghost_conflict(XY(a), XY(b), pp);
         } else if (a == VOR__GHOST) {

@@ -266,7 +266,7 @@ static vor_status legalise(flipper *st, uint32_t p) {
             continue;
         uint32_t a = tri[e], b = tri[vor__next(e)];
         assert(a != VOR__GHOST && b != VOR__GHOST);
-        if (vor__incircle_fast(XY(a), XY(b), pp, XY(d)) <= 0)
+        if (vor__incircle_static(XY(a), XY(b), pp, XY(d), st->w.icc) <= 0)
             continue;
         if (n + 2 > st->cap) {
             st->n = n;

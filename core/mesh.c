@@ -127,6 +127,9 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     }
     w->tri = 0;
     w->rng = 0x9e3779b9u;
+    const double span = vor__span(local, n);
+    w->occ = vor__orient2d_static_bound(span);
+    w->icc = vor__incircle_static_bound(span);
     *pxy = local;
     return VOR_OK;
 }
@@ -153,6 +156,7 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     const uint32_t *tri = m->tri;
     const int32_t *adj = m->adj;
     const double *pp = XY(p);
+    const double occ = w->occ;
     uint32_t rng = w->rng;
     uint32_t t = w->tri;
     if (vor__mesh_is_ghost(tri, t)) {
@@ -167,7 +171,7 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     uint32_t k;
     for (k = 0; k < 3; k++) {
         uint32_t e = 3 * t + k;
-        int o = vor__orient2d_fast(XY(tri[e]), XY(tri[vor__next(e)]), pp);
+        int o = vor__orient2d_static(XY(tri[e]), XY(tri[vor__next(e)]), pp, occ);
         if (o < 0)
             break;
         if (o == 0)
@@ -204,12 +208,12 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
             q2 = pb;
             q3 = pc;
         }
-        int o1 = vor__orient2d_fast(q0, q1, pp);
+        int o1 = vor__orient2d_static(q0, q1, pp, occ);
         if (o1 < 0) {
             f = (uint32_t)adj[e1];
             continue;
         }
-        int o2 = vor__orient2d_fast(q2, q3, pp);
+        int o2 = vor__orient2d_static(q2, q3, pp, occ);
         if (o2 < 0) {
             f = (uint32_t)adj[e2];
             continue;
@@ -220,6 +224,19 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
         *on_edge = o1 == 0 ? (int32_t)e1 : o2 == 0 ? (int32_t)e2 : -1;
         return t;
     }
+}
+
+double vor__span(const double *xy, size_t n) {
+    double x0 = xy[0], x1 = xy[0], y0 = xy[1], y1 = xy[1];
+    for (size_t i = 1; i < n; i++) {
+        double x = xy[2 * i], y = xy[2 * i + 1];
+        x0 = x < x0 ? x : x0;
+        x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0;
+        y1 = y > y1 ? y : y1;
+    }
+    double sx = x1 - x0, sy = y1 - y0;
+    return sx > sy ? sx : sy;
 }
 
 int vor__ghost_conflict(const double *a, const double *b, const double *p) {

@@ -30,11 +30,13 @@
 #define VOR__GHOST UINT32_MAX
 
 /* Walk state kept between insertions: where the last point went (the next
- * one, close in insertion order, starts its walk there) and the random bits
- * of the walk. */
+ * one, close in insertion order, starts its walk there), the random bits
+ * of the walk, and the static bounds (predicates.h) of orient2d and
+ * incircle among the sites, for the walk and the construction's tests. */
 typedef struct vor__walk {
     uint32_t tri;
     uint32_t rng;
+    double occ, icc;
 } vor__walk;
 
 /* Non-zero if triangle t is a ghost. */
@@ -53,7 +55,8 @@ static inline int vor__mesh_is_ghost(const uint32_t *tri, uint32_t t) {
 void *vor__alloc_large(size_t count, size_t size);
 
 /* Allocates *m (zeroed by the caller) for n sites and builds the first
- * triangle and its three ghosts. order[0..n-1] is the insertion order of the
+ * triangle and its three ghosts; sets up *w, the bounds included (one
+ * pass over the sites). order[0..n-1] is the insertion order of the
  * sites at xy (2n doubles); the first site after order[0], order[1] that is
  * not collinear with them is swapped into order[2].
  *
@@ -81,6 +84,12 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
  * side (*on_edge == -1). Updates w->tri. Expected O(distance walked). */
 uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
                           vor__walk *w, int32_t *on_edge);
+
+/* The larger side of the bounding box of the n >= 1 points at xy (2n
+ * doubles), as rounded by one subtraction: the span to give
+ * vor__incircle_static_bound (predicates.h) for incircle tests among these
+ * points. O(n). */
+double vor__span(const double *xy, size_t n);
 
 /* Non-zero if p is in the "circumcircle" of ghost triangle with hull edge
  * a->b (see the file comment): strictly left of a->b, or strictly inside

@@ -218,6 +218,7 @@ static int build_records(dual *D) {
      * where its walk is, and the vertices still walking */
     uint32_t fan[BLOCK][BLOCK_FAN], fanw[BLOCK][BLOCK_FAN], cur[BLOCK];
     uint8_t fdeg[BLOCK], act[BLOCK];
+    const double icc = vor__incircle_static_bound(vor__span(lxy, n));
 
     for (size_t v = 0; v < n; v++) {
         const size_t j = v % BLOCK;
@@ -301,7 +302,7 @@ static int build_records(dual *D) {
             if (wl[k] < v) continue;
             size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
             if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
-            int ic = vor__incircle_fast(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]));
+            int ic = vor__incircle_static(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]), icc);
             if (ic >= 0) return ic == 0 ? PASS_COCIRCULAR : PASS_BROKEN;
         }
         if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;

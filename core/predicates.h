@@ -167,6 +167,77 @@ static inline int vor__incircle_fast(const double *a, const double *b,
     return s ? s : vor__incircle_exact(a, b, c, d);
 }
 
+/* ---- Incircle with a static bound ------------------------------------------
+ * Where every coordinate difference of the points a loop will test is known
+ * to be at most M in magnitude, the permanent of the filter above is at
+ * most 12 M^4 (alift <= 2 M^2, |bdx cdy| + |cdx bdy| <= 2 M^2, three such
+ * terms), computed with at most a few ulps more, so
+ *
+ *     S = VOR__ICC_BOUND * 16 M^4
+ *
+ * exceeds the dynamic bound of every such call by a third of itself at
+ * least. A computed |det| > S then proves the sign, as the dynamic filter
+ * would, without computing the permanent (about a third of the filter's
+ * flops). Underflow: with M >= 2^-200, S >= 2^-850, and a third of S
+ * dwarfs the at most 2^-1069 that underflowed products can lose (see
+ * above; U <= 12 M^2 + 4); with M <= 2^200 nothing overflows. Outside
+ * that range vor__incircle_static_bound returns +inf, and every call falls
+ * through to vor__incircle_fast, as does every call with |det| <= S. */
+
+/* S for points whose coordinate differences are at most span in magnitude
+ * (span >= 0, e.g. the larger side of their bounding box), or +inf when
+ * span is 0 or outside [2^-200, 2^200] (then S never decides). M is span
+ * rounded up to a power of two, so S is exact. */
+static inline double vor__incircle_static_bound(double span) {
+    if (!(span >= 0x1p-200 && span <= 0x1p200))
+        return INFINITY;
+    int ex;
+    /* span = f 2^ex with f < 1 - 2^-53, so even the exact difference that
+     * span is the rounding of stays below M = 2^ex */
+    (void)frexp(span, &ex);
+    double m = ldexp(1.0, ex);
+    return VOR__ICC_BOUND * 16.0 * (m * m) * (m * m);
+}
+
+/* Same result as vor_incircle(a, b, c, d), for points whose coordinate
+ * differences are within the span that bound s was made for. */
+static inline int vor__incircle_static(const double *a, const double *b,
+                                       const double *c, const double *d,
+                                       double s) {
+    double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
+    double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
+    double alift = adx * adx + ady * ady;
+    double blift = bdx * bdx + bdy * bdy;
+    double clift = cdx * cdx + cdy * cdy;
+    double det = alift * (bdx * cdy - cdx * bdy) +
+                 blift * (cdx * ady - adx * cdy) +
+                 clift * (adx * bdy - bdx * ady);
+    int r = (det > s) - (det < -s); /* no branch on the sign */
+    return r ? r : vor__incircle_fast(a, b, c, d);
+}
+
+/* orient2d the same way: |l| + |r| <= 2 M^2, so S = VOR__CCW_BOUND * 4 M^2
+ * exceeds the dynamic bound by half of itself, and decides without the
+ * absolute values; the underflow margin (S >= 2^-450 for M >= 2^-200)
+ * dwarfs the 2^-1074 two underflowed products can lose. */
+static inline double vor__orient2d_static_bound(double span) {
+    if (!(span >= 0x1p-200 && span <= 0x1p200))
+        return INFINITY;
+    int ex;
+    (void)frexp(span, &ex); /* as for the incircle bound: M = 2^ex > span */
+    double m = ldexp(1.0, ex);
+    return VOR__CCW_BOUND * 4.0 * (m * m);
+}
+
+/* Same result as vor_orient2d(a, b, c), for points whose coordinate
+ * differences are within the span that bound s was made for. */
+static inline int vor__orient2d_static(const double *a, const double *b,
+                                       const double *c, double s) {
+    double det = (a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]);
+    int r = (det > s) - (det < -s); /* no branch on the sign */
+    return r ? r : vor__orient2d_fast(a, b, c);
+}
+
 /* ---- Circumcentre, double path ---------------------------------------------
  * vor_circumcenter (geometry.c, where the formula and its range are
  * explained) is this double evaluation, with a long double fallback for

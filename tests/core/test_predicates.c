@@ -23,6 +23,7 @@
 #include <cmocka.h>
 
 #include "../../core/predicates.h"
+#include "../support/testsets.h"
 
 /* ---- oracle -------------------------------------------------------------- */
 
@@ -682,6 +683,85 @@ static int report_total(void **state) {
     return 0;
 }
 
+/* The static filters (vor__orient2d_static, vor__incircle_static) against
+ * the rational oracles, on batches of points whose span gives the bound,
+ * as the mesh code uses them: uniform points, points rounded onto a circle
+ * (nearly cocircular, nearly collinear), lattice points (exactly
+ * cocircular and collinear: the filter must pass them on) and the box's
+ * corners one ulp in or out, at scales from 2^-199 to 2^199 and away from
+ * the origin. Seed fixed and printed. */
+static void test_static_filters(void **state) {
+    (void)state;
+    const uint64_t seed = 20261122;
+    printf("  static filters: seed %llu\n", (unsigned long long)seed);
+    vt_rng r = {seed};
+    const double scales[] = {0x1p-199, 0x1p-60, 1.0, 0x1p40, 0x1p199};
+    const double offsets[] = {0.0, 3.0, -1000.5};
+    enum { N = 64 };
+    double pts[2 * N];
+    long decided = 0, total = 0;
+    for (size_t si = 0; si < sizeof scales / sizeof *scales; si++) {
+        for (size_t oi = 0; oi < sizeof offsets / sizeof *offsets; oi++) {
+            for (int kind = 0; kind < 4; kind++) {
+                const double L = scales[si], o = offsets[oi] * L;
+                for (int i = 0; i < N; i++) {
+                    double x, y;
+                    if (kind == 0) {
+                        x = vt_unit(&r);
+                        y = vt_unit(&r);
+                    } else if (kind == 1) {
+                        double t = 6.283185307179586 * vt_unit(&r);
+                        x = 0.5 + 0.5 * cos(t);
+                        y = 0.5 + 0.5 * sin(t);
+                    } else if (kind == 2) {
+                        x = (double)(vt_next(&r) % 17) / 16;
+                        y = (double)(vt_next(&r) % 17) / 16;
+                    } else {
+                        x = (double)(vt_next(&r) % 2);
+                        y = (double)(vt_next(&r) % 2);
+                    }
+                    x = o + x * L;
+                    y = o + y * L;
+                    if (kind == 3) { /* nudge a corner by an ulp */
+                        int k = (int)(vt_next(&r) % 3);
+                        x = k == 0 ? x : nextafter(x, k == 1 ? INFINITY : -INFINITY);
+                    }
+                    pts[2 * i] = x;
+                    pts[2 * i + 1] = y;
+                }
+                double x0 = pts[0], x1 = pts[0], y0 = pts[1], y1 = pts[1];
+                for (int i = 1; i < N; i++) {
+                    x0 = fmin(x0, pts[2 * i]);
+                    x1 = fmax(x1, pts[2 * i]);
+                    y0 = fmin(y0, pts[2 * i + 1]);
+                    y1 = fmax(y1, pts[2 * i + 1]);
+                }
+                double span = fmax(x1 - x0, y1 - y0);
+                double so = vor__orient2d_static_bound(span);
+                double sc = vor__incircle_static_bound(span);
+                assert_true(isfinite(so) && isfinite(sc));
+                for (int k = 0; k < 300; k++) {
+                    const double *a = pts + 2 * (vt_next(&r) % N);
+                    const double *b = pts + 2 * (vt_next(&r) % N);
+                    const double *c = pts + 2 * (vt_next(&r) % N);
+                    const double *d = pts + 2 * (vt_next(&r) % N);
+                    assert_int_equal(vor__orient2d_static(a, b, c, so), oracle_orient(a, b, c));
+                    assert_int_equal(vor__incircle_static(a, b, c, d, sc),
+                                     oracle_incircle(a, b, c, d));
+                    total++;
+                    decided += vor__incircle_filter(a, b, c, d) != 0;
+                }
+            }
+        }
+    }
+    printf("  static filters: %ld tuples, %ld decided by the dynamic filter\n",
+           total, decided);
+    /* out of range: no bound, every call falls through */
+    assert_true(isinf(vor__incircle_static_bound(0x1p-201)));
+    assert_true(isinf(vor__incircle_static_bound(0x1p201)));
+    assert_true(isinf(vor__orient2d_static_bound(0.0)));
+}
+
 /* vor__circumcenter_fast decides its window on the bits of the
  * differences; the plain comparisons of the definition are the oracle, at
  * the window's edges (one ulp either side), at zeros, subnormals, inf and
@@ -746,6 +826,7 @@ int main(void) {
         cmocka_unit_test(test_random_bulk),
         cmocka_unit_test(test_orient_value),
         cmocka_unit_test(test_circumcenter_window),
+        cmocka_unit_test(test_static_filters),
     };
     return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
                                        report_total);
