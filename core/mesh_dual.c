@@ -497,17 +497,26 @@ static void restore_adj(dual *D) {
 static int count(dual *D) {
     const size_t n = D->n, T = D->T;
     const uint32_t *tri = D->tri, *order = D->order;
-    uint32_t *cs = D->d->cell_start;
+    uint32_t *cs = D->d->cell_start, *outl = D->outl;
     uint32_t *deg = calloc(n ? n : 1, sizeof *deg); /* per local vertex */
     if (!deg) return PASS_NOMEM;
     size_t h = 0;
     for (size_t t = 0; t < T; t++) {
         const uint32_t *v = tri + 3 * t;
-        h += v[0] == VOR__GHOST || v[1] == VOR__GHOST || v[2] == VOR__GHOST;
+        if (((v[0] | v[1] | v[2]) >> 30) == 0) { /* finite: site ids < 2^30 */
+            outl[v[0]] = 3 * (uint32_t)t;
+            outl[v[1]] = 3 * (uint32_t)t + 1;
+            outl[v[2]] = 3 * (uint32_t)t + 2;
+            deg[v[0]]++;
+            deg[v[1]]++;
+            deg[v[2]]++;
+            continue;
+        }
+        h++;
         for (uint32_t k = 0; k < 3; k++) {
             uint32_t a = v[k], b = v[k == 2 ? 0 : k + 1];
             if (a == VOR__GHOST) continue;
-            D->outl[a] = 3 * (uint32_t)t + k;
+            outl[a] = 3 * (uint32_t)t + k;
             deg[a] += b != VOR__GHOST;
         }
     }
