@@ -89,13 +89,15 @@ static void hilbert_table4(const uint8_t table[64], uint16_t big[1024]) {
     }
 }
 
-/* Key of the cell (x, y) of the 2^16 x 2^16 grid: its position along the
- * curve. */
+/* The top 24 bits of the key of the cell (x, y) of the 2^16 x 2^16 grid
+ * (its position along the curve): the curve's first 12 levels, which read
+ * only the top 12 bits of x and y. The sort uses KEY_BITS <= 24 of them,
+ * so the last levels are not computed. */
 static inline uint32_t hilbert_key(const uint16_t big[1024], uint32_t x,
                                    uint32_t y) {
     uint32_t key = 0;
     unsigned state = 0;
-    for (int shift = 12; shift >= 0; shift -= 4) {
+    for (int shift = 12; shift >= 4; shift -= 4) {
         unsigned e = big[state << 8 | ((x >> shift) & 15) << 4 |
                          ((y >> shift) & 15)];
         key = key << 8 | (e & 255);
@@ -143,6 +145,7 @@ static void quantiser_init(quantiser *q, double lo, double half) {
 #define INDEX_BITS 30
 #define KEY_BITS 22
 #define SORT_BITS 27 /* KEY_BITS + 5 bits of round */
+_Static_assert(KEY_BITS <= 24, "hilbert_key computes 24 bits");
 
 /* Sorts w[0..n-1] by bits INDEX_BITS .. INDEX_BITS + SORT_BITS - 1, stably,
  * with tmp (n words): least significant digit first, three 9-bit digits,
@@ -253,7 +256,7 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
         bits >>= t + 1;
         nbits -= t + 1;
         uint64_t round = (uint64_t)(k - 1 - t);
-        w[i] = (round << KEY_BITS | key >> (32 - KEY_BITS)) << INDEX_BITS |
+        w[i] = (round << KEY_BITS | key >> (24 - KEY_BITS)) << INDEX_BITS |
                (uint64_t)i;
     }
     sort_words(w, tmp, n);
