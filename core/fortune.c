@@ -228,6 +228,20 @@ static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
 }
 
 #define SMALL_SORT 256 /* below this, qsort the whole array */
+#define TINY_SORT 16   /* at most this, insertion sort */
+
+/* Insertion sort of r[j..k-1] by (y, x). */
+static void insertion_sort(keyed *r, size_t j, size_t k) {
+    for (size_t t = j + 1; t < k; t++) {
+        keyed v = r[t];
+        size_t u = t;
+        while (u > j && cmp_keyed(&v, &r[u - 1]) < 0) {
+            r[u] = r[u - 1];
+            u--;
+        }
+        r[u] = v;
+    }
+}
 
 /* Sorts the runs of r[0..n-1] that share the radix sort's key bits by the
  * full (y, x): insertion sort for short runs, qsort for long ones. */
@@ -236,19 +250,10 @@ static void sort_runs(keyed *r, size_t n) {
     for (size_t j = 0; j < n;) {
         size_t k = j + 1;
         while (k < n && (r[k].k >> shift) == (r[j].k >> shift)) k++;
-        if (k - j > 16) {
+        if (k - j > TINY_SORT)
             qsort(r + j, k - j, sizeof *r, cmp_keyed);
-        } else {
-            for (size_t t = j + 1; t < k; t++) {
-                keyed v = r[t];
-                size_t u = t;
-                while (u > j && cmp_keyed(&v, &r[u - 1]) < 0) {
-                    r[u] = r[u - 1];
-                    u--;
-                }
-                r[u] = v;
-            }
-        }
+        else
+            insertion_sort(r, j, k);
         j = k;
     }
 }
@@ -277,8 +282,12 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     if (n < SMALL_SORT) {
         /* Zeroing and scanning the radix sort's count tables costs more
          * than sorting a few hundred keys outright (about 6 us of the
-         * 30 us a 10-point request costs the service). */
-        qsort(a, n, sizeof *a, cmp_keyed);
+         * 30 us a 10-point request costs the service); for a handful,
+         * qsort's indirect calls cost more than insertion. */
+        if (n <= TINY_SORT)
+            insertion_sort(a, 0, n);
+        else
+            qsort(a, n, sizeof *a, cmp_keyed);
         r = a;
     } else {
         r = radix_sort(a, tmp, n);
