@@ -749,6 +749,34 @@ static void test_extreme_ranges(void **state) {
     }
 }
 
+/* Every path of the site sort, each checked against the other algorithms:
+ * the bucket sort with one huge bucket (an outlier stretches the y range,
+ * so the other sites share the first bucket and are heapsorted), the
+ * radix fallback (a y range beyond the doubles), a row of equal y (one
+ * crowded bucket), and the small sorts just below and above TINY_SORT. */
+static void test_sort_paths(void **state) {
+    (void)state;
+    size_t n = 3000;
+    double *xy = vt_uniform(n, 21);
+    assert_non_null(xy);
+    print_message("sort paths: vt_uniform seed 21\n");
+    xy[1] = 1e300; /* one far outlier above */
+    check_points("outlier y 1e300", xy, n, 1);
+    xy[1] = 1e308;
+    xy[3] = -1e308; /* y1 - y0 overflows */
+    check_points("y range beyond the doubles", xy, n, 1);
+    for (size_t i = 0; i < n; i++) xy[2 * i + 1] = 0.5; /* one row... */
+    xy[1] = 0.25; /* ...but for one site, so not collinear */
+    check_points("one row and a site", xy, n, 1);
+    free(xy);
+    for (size_t k = 15; k <= 18; k++) {
+        double *u = vt_uniform(k, 22 + (unsigned)k);
+        assert_non_null(u);
+        check_points("few sites", u, k, 1);
+        free(u);
+    }
+}
+
 /* 0, 1, 2 and collinear sites through vor_compute (the degenerate builder),
  * and the entry point's own argument checks. */
 static void test_trivial_inputs(void **state) {
@@ -843,6 +871,7 @@ int main(void) {
         cmocka_unit_test(test_all_cocircular),
         cmocka_unit_test(test_rows),
         cmocka_unit_test(test_extreme_ranges),
+        cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_alloc_failures),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_small_random),
