@@ -111,7 +111,8 @@ typedef vor_status (*vor__mesh_build_fn)(const vor_sites *s, uint32_t *order,
                                          vor__mesh *m, double **pxy);
 
 /* The canonical Voronoi diagram read straight off a ghost-closed mesh, as
- * a vor__mesh_build_fn leaves it: vertex v is site order[v], at lxy[2v]
+ * a vor__mesh_build_fn or Fortune's sweep leaves it (any numbering of
+ * vertices and triangles): vertex v is site order[v], at lxy[2v]
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
  * mesh, which it falls back to when sites are cocircular. Consumes m
  * (cleared), lxy and order (freed), also on error; on error *out is NULL.
