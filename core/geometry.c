@@ -1,6 +1,7 @@
 /* geometry.c -- the two constructions every algorithm shares: the centre of
  * the circle through three sites (a Voronoi vertex) and the unit direction
- * of a bisector (a Voronoi ray).
+ * of a bisector (a Voronoi ray); and the sites' bounding box, which the
+ * insertion order and the predicates' static bounds both start from.
  *
  * These produce output coordinates, not topology, so they are computed in
  * floating point (topology comes from the exact predicates). What they owe
@@ -91,4 +92,19 @@ void vor_bisector_dir(const double *a, const double *b, double *out) {
     double h = sqrt(x * x + y * y);
     out[0] = x / h + 0.0;
     out[1] = y / h + 0.0;
+}
+
+void vor__bbox(const double *xy, size_t n, double box[4]) {
+    double x0 = xy[0], x1 = xy[0], y0 = xy[1], y1 = xy[1];
+    for (size_t i = 1; i < n; i++) {
+        double x = xy[2 * i], y = xy[2 * i + 1];
+        x0 = x < x0 ? x : x0; /* selects, not branches: the compiler */
+        x1 = x > x1 ? x : x1; /* makes them minsd/maxsd */
+        y0 = y < y0 ? y : y0;
+        y1 = y > y1 ? y : y1;
+    }
+    box[0] = x0;
+    box[1] = y0;
+    box[2] = x1;
+    box[3] = y1;
 }

@@ -203,14 +203,9 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
     }
 
     /* bounding box, and a square around it */
-    double xmin = xy[0], xmax = xy[0], ymin = xy[1], ymax = xy[1];
-    for (size_t i = 1; i < n; i++) {
-        double x = xy[2 * i], y = xy[2 * i + 1];
-        xmin = x < xmin ? x : xmin;
-        xmax = x > xmax ? x : xmax;
-        ymin = y < ymin ? y : ymin;
-        ymax = y > ymax ? y : ymax;
-    }
+    double box[4];
+    vor__bbox(xy, n, box);
+    const double xmin = box[0], ymin = box[1], xmax = box[2], ymax = box[3];
     double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
     double half = hx > hy ? hx : hy;
     quantiser qx, qy;

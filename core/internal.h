@@ -36,6 +36,10 @@ int vor_orient2d(const double *a, const double *b, const double *c);
 int vor_incircle(const double *a, const double *b, const double *c,
                  const double *d);
 
+/* ---- Bounding box (core/geometry.c) --------------------------------------
+ * box = {xmin, ymin, xmax, ymax} of the n >= 1 points at xy (2n doubles). */
+void vor__bbox(const double *xy, size_t n, double box[4]);
+
 /* ---- Spatial order (core/hilbert.c) --------------------------------------
  * Fills order[0..n-1] with the site indices 0..n-1 in an order suited to
  * incremental insertion (Hilbert curve with biased randomised rounds, BRIO),

@@ -227,15 +227,9 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
 }
 
 double vor__span(const double *xy, size_t n) {
-    double x0 = xy[0], x1 = xy[0], y0 = xy[1], y1 = xy[1];
-    for (size_t i = 1; i < n; i++) {
-        double x = xy[2 * i], y = xy[2 * i + 1];
-        x0 = x < x0 ? x : x0;
-        x1 = x > x1 ? x : x1;
-        y0 = y < y0 ? y : y0;
-        y1 = y > y1 ? y : y1;
-    }
-    double sx = x1 - x0, sy = y1 - y0;
+    double box[4];
+    vor__bbox(xy, n, box);
+    double sx = box[2] - box[0], sy = box[3] - box[1];
     return sx > sy ? sx : sy;
 }
 
