@@ -211,26 +211,11 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
 
 vor_status vor__bowyer_watson_mesh_ordered(const vor_sites *s,
                                            uint32_t *order, vor__mesh *m) {
-    double *xy;
-    vor_status r = build(s, order, m, &xy);
-    if (r != VOR_OK)
-        return r;
-    free(xy);
-    vor__mesh_finish(m, order);
-    return VOR_OK;
+    return vor__mesh_build_ordered(s, build, order, m);
 }
 
 vor_status vor__bowyer_watson_mesh(const vor_sites *s, vor__mesh *m) {
-    if (s->n < 3)
-        return VOR_EINVAL;
-    uint32_t *order = malloc(s->n * sizeof *order);
-    if (!order)
-        return VOR_ENOMEM;
-    vor_status r = vor__insertion_order(s->xy, s->n, order);
-    if (r == VOR_OK)
-        r = vor__bowyer_watson_mesh_ordered(s, order, m);
-    free(order);
-    return r;
+    return vor__mesh_build(s, build, m);
 }
 
 vor_status vor__bowyer_watson(const vor_sites *s, vor_diagram **out) {

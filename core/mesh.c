@@ -226,6 +226,44 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     }
 }
 
+vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order) {
+    *order = NULL;
+    if (s->n < 3)
+        return VOR_EINVAL;
+    uint32_t *o = malloc(s->n * sizeof *o);
+    if (!o)
+        return VOR_ENOMEM;
+    vor_status r = vor__insertion_order(s->xy, s->n, o);
+    if (r != VOR_OK) {
+        free(o);
+        return r;
+    }
+    *order = o;
+    return VOR_OK;
+}
+
+vor_status vor__mesh_build_ordered(const vor_sites *s,
+                                   vor__mesh_build_fn build, uint32_t *order,
+                                   vor__mesh *m) {
+    double *xy;
+    vor_status r = build(s, order, m, &xy);
+    if (r != VOR_OK)
+        return r;
+    free(xy);
+    vor__mesh_finish(m, order);
+    return VOR_OK;
+}
+
+vor_status vor__mesh_build(const vor_sites *s, vor__mesh_build_fn build,
+                           vor__mesh *m) {
+    uint32_t *order;
+    vor_status r = vor__mesh_order_new(s, &order);
+    if (r == VOR_OK)
+        r = vor__mesh_build_ordered(s, build, order, m);
+    free(order);
+    return r;
+}
+
 double vor__span(const double *xy, size_t n) {
     double box[4];
     vor__bbox(xy, n, box);

@@ -127,6 +127,21 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
 vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
                              vor_diagram **out);
 
+/* *order = a new array (free with free()) of the insertion order of the
+ * sites (vor__insertion_order). VOR_EINVAL if n < 3, VOR_ENOMEM; on error
+ * *order is NULL (mesh.c). */
+vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order);
+
+/* The finished (public form) mesh from build with the given insertion
+ * order, as vor__bowyer_watson_mesh_ordered and vor__flip_mesh_ordered
+ * return it; and with the usual insertion order, as vor__bowyer_watson_mesh
+ * and vor__flip_mesh do (mesh.c). */
+vor_status vor__mesh_build_ordered(const vor_sites *s,
+                                   vor__mesh_build_fn build, uint32_t *order,
+                                   vor__mesh *m);
+vor_status vor__mesh_build(const vor_sites *s, vor__mesh_build_fn build,
+                           vor__mesh *m);
+
 /* The triangulations with a given insertion order (tests use this to force
  * degenerate starts). order holds n site indices, each once; it is
  * permuted in place. Same contract as vor__bowyer_watson_mesh and

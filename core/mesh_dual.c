@@ -676,13 +676,9 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
                              vor_diagram **out) {
     vor__mesh m = {0};
     double *lxy = NULL;
+    uint32_t *order;
     *out = NULL;
-    if (s->n < 3)
-        return VOR_EINVAL;
-    uint32_t *order = malloc(s->n * sizeof *order);
-    if (!order)
-        return VOR_ENOMEM;
-    vor_status r = vor__insertion_order(s->xy, s->n, order);
+    vor_status r = vor__mesh_order_new(s, &order);
     if (r == VOR_OK)
         r = build(s, order, &m, &lxy);
     if (r != VOR_OK) {
