@@ -452,6 +452,19 @@ static int choose_scale(int hi, int lo, int k) {
     return -hi;
 }
 
+/* orient2d(a, b, c) = (a - c) x (b - c) of rescaled points, exactly, as an
+ * expansion in det (at most 16 components); returns its length. */
+static int orient2d_expansion(const double *a, const double *b,
+                              const double *c, double *det) {
+    double ex[2], ey[2], fx[2], fy[2], l[8], r[8];
+    int nex = exp_diff(a[0], c[0], ex), ney = exp_diff(a[1], c[1], ey);
+    int nfx = exp_diff(b[0], c[0], fx), nfy = exp_diff(b[1], c[1], fy);
+    int nl = exp_mul2(nex, ex, nfy, fy, l);
+    int nr = exp_mul2(ney, ey, nfx, fx, r);
+    exp_negate(nr, r);
+    return exp_sum(nl, l, nr, r, det);
+}
+
 int vor__orient2d_exact(const double *a, const double *b, const double *c) {
     /* Products with an exactly zero factor (axis-parallel, shared points)
      * are common in grid-like input and need no arithmetic: differences of
@@ -496,14 +509,8 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
         return (det > 0) - (det < 0);
     }
 
-    double ex[2], ey[2], fx[2], fy[2], l[8], r[8], det[16];
-    int nex = exp_diff(sa[0], sc[0], ex), ney = exp_diff(sa[1], sc[1], ey);
-    int nfx = exp_diff(sb[0], sc[0], fx), nfy = exp_diff(sb[1], sc[1], fy);
-    int nl = exp_mul2(nex, ex, nfy, fy, l);
-    int nr = exp_mul2(ney, ey, nfx, fx, r);
-    exp_negate(nr, r);
-    int nd = exp_sum(nl, l, nr, r, det);
-    return exp_sign(nd, det);
+    double det[16];
+    return exp_sign(orient2d_expansion(sa, sb, sc, det), det);
 }
 
 long double vor__orient2d_value(const double *a, const double *b,
@@ -522,13 +529,8 @@ long double vor__orient2d_value(const double *a, const double *b,
     int s = -hi; /* always rescale: the value is returned unscaled below */
     rescale(pts, 3, s, w);
     const double *sa = w, *sb = w + 2, *sc = w + 4;
-    double ex[2], ey[2], fx[2], fy[2], l[8], r[8], det[16];
-    int nex = exp_diff(sa[0], sc[0], ex), ney = exp_diff(sa[1], sc[1], ey);
-    int nfx = exp_diff(sb[0], sc[0], fx), nfy = exp_diff(sb[1], sc[1], fy);
-    int nl = exp_mul2(nex, ex, nfy, fy, l);
-    int nr = exp_mul2(ney, ey, nfx, fx, r);
-    exp_negate(nr, r);
-    int nd = exp_sum(nl, l, nr, r, det);
+    double det[16];
+    int nd = orient2d_expansion(sa, sb, sc, det);
     /* smallest first: the long double sum of a non-overlapping expansion
      * is within an ulp or two of its value */
     long double sum = 0;
