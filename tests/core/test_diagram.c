@@ -475,6 +475,16 @@ static void test_degenerate(void **state) {
 
 /* ---- contract violations ------------------------------------------------- */
 
+/* Waits for child pid, which ran a builder on broken input: it must have
+ * exited 0 (the builder refused it) or stopped on an assert (SIGABRT). */
+static void expect_refusal(pid_t pid, const char *failure, const char *what) {
+    int ws = 0;
+    assert_int_equal(waitpid(pid, &ws, 0), pid);
+    int ok = (WIFEXITED(ws) && WEXITSTATUS(ws) == 0) ||
+             (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGABRT);
+    if (!ok) fail_msg("%s: %s (status %d)", failure, what, ws);
+}
+
 /* Runs the builder on broken input in a child process: a debug build must
  * stop on its assert, a release build must return VOR_EINVAL. */
 static void expect_rejected(const char *what, const double *pts, size_t n,
@@ -495,11 +505,7 @@ static void expect_rejected(const char *what, const double *pts, size_t n,
         sites_done(s);
         _exit(st == VOR_EINVAL && d == NULL ? 0 : 1);
     }
-    int ws = 0;
-    assert_int_equal(waitpid(pid, &ws, 0), pid);
-    int ok = (WIFEXITED(ws) && WEXITSTATUS(ws) == 0) ||
-             (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGABRT);
-    if (!ok) fail_msg("broken input accepted: %s (status %d)", what, ws);
+    expect_refusal(pid, "broken input accepted", what);
 }
 
 static void test_rejects_broken_input(void **state) {
@@ -576,11 +582,7 @@ static void expect_mesh_rejected(const char *what, const double *pts, size_t n,
         sites_done(s);
         _exit(st == VOR_EINVAL && d == NULL && cleared ? 0 : 1);
     }
-    int ws = 0;
-    assert_int_equal(waitpid(pid, &ws, 0), pid);
-    int ok = (WIFEXITED(ws) && WEXITSTATUS(ws) == 0) ||
-             (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGABRT);
-    if (!ok) fail_msg("broken mesh accepted: %s (status %d)", what, ws);
+    expect_refusal(pid, "broken mesh accepted", what);
 }
 
 static void test_rejects_broken_mesh(void **state) {
