@@ -23,8 +23,9 @@
  *     An arc stores the edge record of the breakpoint to its right.
  *   - Circle events: a binary min-heap of 24-byte entries (an interval for
  *     the event's y and a record index) holding only live events, at most
- *     one per arc; the record holds the arc, the heap position and the
- *     triple of sites. An event is deleted from the heap as soon as its
+ *     one per arc; the record holds the arc and the triple of sites, and
+ *     dense arrays beside it the heap position and what is known for
+ *     tie-breaking. An event is deleted from the heap as soon as its
  *     triple changes, so no stale event is ever popped. (Lazy deletion was
  *     measured: the heap grows eightfold with cancelled far-future events
  *     and needs twice the comparisons.) Sites are not in the heap: the next
@@ -105,10 +106,11 @@ typedef struct event {
     uint32_t rec;
 } event;
 
-/* An event record: alive while its event is in the heap. */
+/* An event record: alive while its event is in the heap. (Its heap
+ * position is kept apart, in sweep.hpos: the heap's moves write it at every
+ * level, and a dense array keeps those writes in few cache lines.) */
 typedef struct evrec {
     uint32_t arc;  /* the arc the event removes */
-    uint32_t pos;  /* its heap position */
     uint32_t s[3]; /* its triple, left to right (sorted site indices) */
 } evrec;
 
@@ -128,7 +130,9 @@ typedef struct sweep {
     event *heap; /* cap_recs entries: one per live record */
     uint32_t n_heap;
     evrec *recs;
+    uint32_t *hpos; /* heap position of each live record */
     double *cache; /* 6 per record: see event_dd() and event_exact() */
+    uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
     uint32_t free_recs; /* list of freed records through .arc */
 
@@ -757,9 +761,15 @@ static uint32_t rec_new(sweep *w) {
         evrec *nr = realloc(w->recs, (size_t)cap * sizeof *nr);
         if (!nr) return NO_EVENT;
         w->recs = nr;
+        uint32_t *np = realloc(w->hpos, (size_t)cap * sizeof *np);
+        if (!np) return NO_EVENT;
+        w->hpos = np;
         double *nc = realloc(w->cache, 6 * (size_t)cap * sizeof *nc);
         if (!nc) return NO_EVENT;
         w->cache = nc;
+        uint8_t *nk = realloc(w->known, cap);
+        if (!nk) return NO_EVENT;
+        w->known = nk;
         event *nh = realloc(w->heap, (size_t)cap * sizeof *nh);
         if (!nh) return NO_EVENT;
         w->heap = nh;
@@ -774,13 +784,18 @@ static void rec_free(sweep *w, uint32_t r) {
 }
 
 /* What the tie-breaking stages know about record r's event, computed on
- * first use (c[2], c[5] are NAN until then): c[0..2] the double-double
- * bounds (hi, lo, err; err < 0 if unavailable), c[3..5] the circle exactly
- * in doubles (x, y, r^2; r^2 < 0 if not exact). */
+ * first use (known[r] has bit KNOWN_DD, KNOWN_EXACT once filled; a byte
+ * apart, so that a new record touches no cache line of the doubles):
+ * c[0..2] the double-double bounds (hi, lo, err; err < 0 if unavailable),
+ * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
+ * exact). */
+enum { KNOWN_DD = 1, KNOWN_EXACT = 2 };
+
 static int event_dd(sweep *w, uint32_t r, const double **v) {
     const evrec *e = &w->recs[r];
     double *c = w->cache + 6 * (size_t)r;
-    if (isnan(c[2])) {
+    if (!(w->known[r] & KNOWN_DD)) {
+        w->known[r] |= KNOWN_DD;
         if (!w->safe || !vor__fortune_circle_top_dd(
                             site_xy(w, e->s[0]), site_xy(w, e->s[1]),
                             site_xy(w, e->s[2]), &c[0], &c[1], &c[2]))
@@ -793,7 +808,8 @@ static int event_dd(sweep *w, uint32_t r, const double **v) {
 static int event_exact(sweep *w, uint32_t r, const double **v) {
     const evrec *e = &w->recs[r];
     double *c = w->cache + 6 * (size_t)r;
-    if (isnan(c[5])) {
+    if (!(w->known[r] & KNOWN_EXACT)) {
+        w->known[r] |= KNOWN_EXACT;
         if (!vor__fortune_circle_exact_double(site_xy(w, e->s[0]),
                                               site_xy(w, e->s[1]),
                                               site_xy(w, e->s[2]), c + 3))
@@ -850,7 +866,7 @@ static inline uint32_t earlier_child(sweep *w, uint32_t c) {
 
 static inline void heap_put(sweep *w, uint32_t pos, event e) {
     w->heap[pos] = e;
-    w->recs[e.rec].pos = pos;
+    w->hpos[e.rec] = pos;
 }
 
 static void sift_up(sweep *w, uint32_t pos, event e) {
@@ -899,13 +915,14 @@ static void drop_event(sweep *w, uint32_t b) {
     uint32_t r = ARC(b).ev;
     if (r == NO_EVENT) return;
     ARC(b).ev = NO_EVENT;
-    heap_remove(w, w->recs[r].pos);
+    heap_remove(w, w->hpos[r]);
     rec_free(w, r);
 }
 
 /* The circle event of arc b's current triple: 1 with its interval if the
  * breakpoints around b converge (exact orient2d > 0), else 0. */
-static int event_of(const sweep *w, uint32_t b, double *lo, double *hi) {
+static inline int event_of(const sweep *w, uint32_t b, double *lo,
+                           double *hi) {
     const arc *x = &w->arcs[b];
     if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
@@ -914,14 +931,13 @@ static int event_of(const sweep *w, uint32_t b, double *lo, double *hi) {
 }
 
 /* Fills record r for arc b's current triple. */
-static void rec_fill(sweep *w, uint32_t r, uint32_t b) {
+static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
     evrec *rec = &w->recs[r];
     rec->arc = b;
     rec->s[0] = ARC(ARC(b).prev).site;
     rec->s[1] = ARC(b).site;
     rec->s[2] = ARC(ARC(b).next).site;
-    double *cache = w->cache + 6 * (size_t)r; /* nothing known about ties yet */
-    cache[2] = cache[5] = NAN;
+    w->known[r] = 0; /* nothing known about ties yet */
 }
 
 /* Gives arc b the circle event of its triple, if the breakpoints around it
@@ -953,7 +969,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     }
     rec_fill(w, r, b);
     event e = {lo, hi, r};
-    uint32_t pos = w->recs[r].pos;
+    uint32_t pos = w->hpos[r];
     if (pos > 0 && ev_before(w, &e, &w->heap[(pos - 1) / 2]))
         sift_up(w, pos, e);
     else
@@ -1084,7 +1100,9 @@ static void sweep_free(sweep *w) {
     free(w->red);
     free(w->heap);
     free(w->recs);
+    free(w->hpos);
     free(w->cache);
+    free(w->known);
     free(w->ehe);
     free(w->tri);
     free(w->adj);
@@ -1155,12 +1173,14 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.cap_recs = 64;
     w.recs = malloc(w.cap_recs * sizeof *w.recs);
     w.heap = malloc(w.cap_recs * sizeof *w.heap);
+    w.hpos = malloc(w.cap_recs * sizeof *w.hpos);
     w.cache = malloc(6 * (size_t)w.cap_recs * sizeof *w.cache);
+    w.known = malloc(w.cap_recs);
     w.cap_edges = 3 * w.n;
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.recs || !w.heap || !w.cache || !w.ehe ||
+    if (!w.arcs || !w.red || !w.recs || !w.hpos || !w.heap || !w.cache || !w.known || !w.ehe ||
         !w.tri || !w.adj || !w.ws)
         goto fail;
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
