@@ -445,6 +445,10 @@ static api_code read_points(const scan *sc, const char **pp,
 
 /* ---- Members other than points ----------------------------------------------- */
 
+/* Longest "algorithm" or "format" string read without jansson, with its
+ * terminator (the valid names are far shorter). */
+#define PLAIN_MAX 32
+
 static const char *const known_keys = "points, generate, algorithm, bounds, "
                                       "include, format";
 
@@ -606,7 +610,31 @@ typedef struct members {
     int has_points, has_bounds_null;
     int has_bounds;
     double bounds[4];
+    /* "algorithm" and "format" given as plain strings (see plain_string):
+     * the text itself, without a jansson value */
+    char algorithm_s[PLAIN_MAX], format_s[PLAIN_MAX];
 } members;
+
+/* Reads the string at p (a quote) into dst when it is plain -- printable
+ * ASCII without escapes, shorter than PLAIN_MAX -- and returns the byte
+ * after it; NULL otherwise (the value then goes to jansson). A plain
+ * string is exactly the string jansson would decode, so the answer is the
+ * same; the point is the cost: a small request's "algorithm" is a visible
+ * share of its parse time when it needs a jansson value. */
+static const char *plain_string(const char *p, const char *end, char *dst) {
+    const char *s = p + 1;
+    for (size_t n = 0; s + n < end && n < PLAIN_MAX; n++) {
+        unsigned char c = (unsigned char)s[n];
+        if (c == '"') {
+            if (n == 0) return NULL; /* "" is left to the full path */
+            memcpy(dst, s, n);
+            dst[n] = '\0';
+            return s + n + 1;
+        }
+        if (c < 0x20 || c >= 0x7f || c == '\\') return NULL;
+    }
+    return NULL;
+}
 
 static void members_free(members *m) {
     json_decref(m->algorithm);
@@ -718,10 +746,19 @@ static api_code read_object(const scan *sc, const char **pp, points *pts,
                                        "an array [xmin, ymin, xmax, ymax]");
                 }
             }
-        } else if (strcmp(key, "algorithm") == 0) {
-            slot = &m->algorithm;
-        } else if (strcmp(key, "format") == 0) {
-            slot = &m->format;
+        } else if (strcmp(key, "algorithm") == 0 ||
+                   strcmp(key, "format") == 0) {
+            int alg = key[0] == 'a';
+            char *plain = alg ? m->algorithm_s : m->format_s;
+            slot = alg ? &m->algorithm : &m->format;
+            const char *q;
+            if (*slot == NULL && plain[0] == '\0' && p < end && *p == '"' &&
+                (q = plain_string(p, end, plain)) != NULL) {
+                p = q;
+                slot = NULL;
+            } else {
+                dup = plain[0] != '\0';
+            }
         } else if (strcmp(key, "include") == 0) {
             slot = &m->include;
         } else if (strcmp(key, "generate") == 0) {
@@ -733,7 +770,7 @@ static api_code read_object(const scan *sc, const char **pp, points *pts,
                                    "unknown key \"%s\"; known: %s", shown,
                                    known_keys);
         }
-        if (slot != NULL) {
+        if (slot != NULL && !dup) {
             dup = *slot != NULL;
             if (!dup && take_value(sc, &p, ptr, slot) != API_OK) {
                 return sc->prob->code;
@@ -789,7 +826,15 @@ static api_code parse_json(api_request *r, const char *body, size_t len,
         goto done;
     }
     if (is_object) {
+        if (m.algorithm_s[0] &&
+            (c = api__set_algorithm(r, m.algorithm_s, "/algorithm", prob))) {
+            goto done;
+        }
         if (m.algorithm && (c = apply_algorithm(r, m.algorithm, prob))) goto done;
+        if (m.format_s[0] &&
+            (c = api__set_format(r, m.format_s, "/format", prob))) {
+            goto done;
+        }
         if (m.format && (c = apply_format(r, m.format, prob))) goto done;
         if (m.has_bounds && (c = api__set_bounds(r, m.bounds, "/bounds", prob))) {
             goto done;

@@ -108,6 +108,20 @@ static void test_json_accepted(void **state) {
     assert_int_equal(o.r.algorithm, VOR_BOWYER_WATSON);
     api_request_clear(&o.r);
 
+    /* Names with escapes, or at the end of the object. */
+    assert_int_equal(parse_json(&o, "{\"format\":\"s\\u0076g\",\"points\":[[0,0]],"
+                                    "\"algorithm\":\"fl\\u0069p\"}"),
+                     API_OK);
+    assert_int_equal(o.r.format, API_FMT_SVG);
+    assert_int_equal(o.r.algorithm, VOR_FLIP);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"points\":[[0,0]],\"format\":\"timings\","
+                                    "\"algorithm\":\"bowyer-watson\"}"),
+                     API_OK);
+    assert_int_equal(o.r.format, API_FMT_TIMINGS);
+    assert_int_equal(o.r.algorithm, VOR_BOWYER_WATSON);
+    api_request_clear(&o.r);
+
     /* include as a string; bounds null; escaped key. */
     assert_int_equal(parse_json(&o, "{\"include\": \"edges,cells\", \"bounds\": "
                                     "null, \"p\\u006fints\": [[5,6]]}"),
@@ -190,6 +204,14 @@ static void test_json_refusals(void **state) {
          "/algorithm", 0, "duplicate key \"algorithm\""},
         {"{\"generate\": {\"n\": 1, \"n\": 2}}", API_MALFORMED, "/generate", 0,
          "duplicate object key"},
+        /* a plain string and an escaped one are the same key twice, in
+         * either order */
+        {"{\"algorithm\": \"flip\", \"algorithm\": \"fl\\u0069p\"}",
+         API_MALFORMED, "/algorithm", 0, "duplicate key \"algorithm\""},
+        {"{\"algorithm\": \"fl\\u0069p\", \"algorithm\": \"flip\"}",
+         API_MALFORMED, "/algorithm", 0, "duplicate key \"algorithm\""},
+        {"{\"format\": \"svg\", \"points\": [], \"format\": \"svg\"}",
+         API_MALFORMED, "/format", 0, "duplicate key \"format\""},
         /* unknown keys: 400 naming the key */
         {"{\"points\": [], \"colour\": \"red\"}", API_MALFORMED, "/colour", 0,
          "unknown key \"colour\"; known: points, generate, algorithm, bounds, "
@@ -237,6 +259,20 @@ static void test_json_refusals(void **state) {
          "algorithm must be a string"},
         {"{\"points\": [], \"format\": \"png\"}", API_INVALID, "/format", 0,
          "unknown format \"png\""},
+        /* names that are not plain ASCII, or long, or empty: the same
+         * refusal whichever way the string is read */
+        {"{\"points\": [], \"algorithm\": \"flip\\n\"}", API_INVALID,
+         "/algorithm", 0, "unknown algorithm \"flip\\x0a\""},
+        {"{\"points\": [], \"algorithm\": \"fortun\xc3\xa9\"}", API_INVALID,
+         "/algorithm", 0, "unknown algorithm \"fortun\\xc3\\xa9\""},
+        {"{\"points\": [], \"algorithm\": "
+         "\"fortune-fortune-fortune-fortune-fortune\"}",
+         API_INVALID, "/algorithm", 0,
+         "unknown algorithm \"fortune-fortune-fortune-fortune-fortune\""},
+        {"{\"points\": [], \"algorithm\": \"\"}", API_INVALID, "/algorithm",
+         0, "unknown algorithm \"\""},
+        {"{\"points\": [], \"format\": \"SVG\"}", API_INVALID, "/format", 0,
+         "unknown format \"SVG\""},
         {"{\"points\": [], \"include\": [\"edges\", \"faces\"]}", API_INVALID,
          "/include/1", 0, "unknown part \"faces\""},
         {"{\"points\": [], \"include\": [\"edges\", 3]}", API_INVALID,
