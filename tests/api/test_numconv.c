@@ -320,6 +320,49 @@ static void test_json_grammar(void **state) {
     assert_true(v == 12.0);
 }
 
+/* Where the JSON grammar stops after a run of k digits followed by byte
+ * c (or by the end of the input, c < 0), in the integer part, the
+ * fraction and the exponent: digits are read several at a time, and the
+ * first byte that is not a digit, at any offset, must end the number. The
+ * input sits at the very end of an allocation of its own size, so a read
+ * past end is an error under AddressSanitizer. */
+static void test_json_digit_runs(void **state) {
+    (void)state;
+    static const char *const prefix[] = {"7", "0.", "1e", "-3.25E-"};
+    for (size_t f = 0; f < sizeof prefix / sizeof prefix[0]; f++) {
+        size_t pl = strlen(prefix[f]);
+        for (size_t k = 0; k <= 40; k++) {
+            for (int c = -1; c < 256; c++) {
+                if (c == '.' || c == 'e' || c == 'E') continue; /* go on */
+                size_t len = pl + k + (c >= 0);
+                char *b = malloc(len);
+                assert_non_null(b);
+                memcpy(b, prefix[f], pl);
+                for (size_t i = 0; i < k; i++) b[pl + i] = (char)('0' + (i * 7 + k) % 10);
+                if (c >= 0) b[pl + k] = (char)c;
+                /* the oracle: a byte loop over the same span */
+                size_t want = pl;
+                while (want < len && b[want] >= '0' && b[want] <= '9') want++;
+                double v;
+                const char *stop;
+                api_num r = api_num_parse_json(b, b + len, &v, &stop);
+                int ok = want > pl || f == 0; /* "7" is a number alone */
+                /* a refused number stops at its last '.', 'e' or 'E' */
+                size_t bad = pl - 1;
+                while (bad > 0 && strchr(".eE", b[bad]) == NULL) bad--;
+                size_t got = (size_t)(stop - b);
+                free(b);
+                /* exponents of many digits overflow: read, not refused */
+                if (got != (ok ? want : bad) || (r != API_NUM_SYNTAX) != ok) {
+                    fail_msg("prefix \"%s\", %zu digits, then byte %d: status "
+                             "%d, stop %zu (expected %zu)", prefix[f], k, c,
+                             (int)r, got, ok ? want : bad);
+                }
+            }
+        }
+    }
+}
+
 static void test_text_grammar(void **state) {
     (void)state;
     static const struct {
@@ -358,6 +401,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_parse_extremes),
         cmocka_unit_test(test_json_grammar),
+        cmocka_unit_test(test_json_digit_runs),
         cmocka_unit_test(test_text_grammar),
         cmocka_unit_test(test_format_cases),
         cmocka_unit_test(test_parse_random_17g),
