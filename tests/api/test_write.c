@@ -10,10 +10,12 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
 
+#include "../../api/numconv.h"
 #include "result_check.h"
 
 /* Sites (0,0), (2,0), (0,2) and input 3 = (2,0) again. One vertex (1,1);
@@ -341,6 +343,57 @@ static void test_compare_document(void **state) {
     api_buf_clear(&out);
 }
 
+/* The timings are milliseconds rounded to the microsecond and written
+ * without the general converter where that is exact: every value must
+ * read exactly as api_num_format writes round(v * 1000) / 1000. Edge
+ * values, then random ones over many magnitudes (seed printed). */
+static void test_timings_digits(void **state) {
+    (void)state;
+    static const double edge[] = {
+        0, -0.0, 0.0004, 0.0005, 0.0015, 0.001, 0.01, 0.1, 0.1005, 1, 10, 100,
+        0.999, 0.9995, 999.9995, 12.3456, 1e-300, -0.0004, -1.5, 4294967.295,
+        4294967.2955, 4294967.296, 4294967.2965, 1e12, 1e15, 1e300, INFINITY,
+        -INFINITY, NAN};
+    const uint64_t seed = 0x71417;
+    uint64_t x = seed;
+    print_message("timings digits: seed %llu\n", (unsigned long long)seed);
+    for (size_t i = 0; i < 20000; i++) {
+        double v[5];
+        for (int k = 0; k < 5; k++) {
+            size_t j = i * 5 + (size_t)k;
+            if (j < sizeof edge / sizeof edge[0]) {
+                v[k] = edge[j];
+                continue;
+            }
+            x = x * 6364136223846793005ull + 1442695040888963407ull;
+            double u = (double)(x >> 11) / 9007199254740992.0;
+            v[k] = u * pow(10, (double)((x >> 3) % 16) - 6);
+        }
+        api_request r;
+        api_request_init(&r);
+        r.format = API_FMT_TIMINGS;
+        api_result res = tri_result();
+        api_timings t = {v[0], v[1], v[2], v[3], v[4], 0, 0};
+        api_buf b;
+        api_problem p;
+        api_buf_init(&b);
+        assert_int_equal(api_write_result(&r, &res, &t, &b, &p), API_OK);
+        const char *at = b.data;
+        for (int k = 0; k < 5; k++) {
+            char want[API_NUM_MAXLEN + 1];
+            size_t n = api_num_format(round(v[k] * 1000) / 1000, want);
+            if (n == 0) n = (size_t)snprintf(want, sizeof want, "null");
+            want[n] = 0;
+            at = strchr(at, ':');
+            assert_non_null(at);
+            at++;
+            if (strncmp(at, want, n) != 0 || (at[n] != ',' && at[n] != '}'))
+                fail_msg("value %.17g: wrote %.30s, want %s", v[k], at, want);
+        }
+        api_buf_clear(&b);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_json_all_parts),
@@ -350,6 +403,7 @@ int main(void) {
         cmocka_unit_test(test_svg),
         cmocka_unit_test(test_binary),
         cmocka_unit_test(test_timings_only),
+        cmocka_unit_test(test_timings_digits),
         cmocka_unit_test(test_out_of_memory),
         cmocka_unit_test(test_compare_document),
     };
