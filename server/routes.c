@@ -7,7 +7,6 @@
  */
 #include "routes.h"
 
-#include <stdio.h>
 #include <string.h>
 
 static const struct {
@@ -38,19 +37,26 @@ void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
         const char *name;
     } names[] = {{SRV_M_GET, "GET"}, {SRV_M_HEAD, "HEAD"},
                  {SRV_M_POST, "POST"}};
+    /* Plain copies, not snprintf: this runs for every request. The whole
+     * list is at most "GET, HEAD, POST, OPTIONS"; a buffer too small for
+     * it gets as much as fits, terminated, as snprintf would give. */
+    char list[32];
     size_t len = 0;
     if (allow_size == 0) return;
-    allow[0] = '\0';
     unsigned m = (unsigned)r < SRV_ROUTE_COUNT ? table[r].methods : 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         if (m & names[i].bit) {
-            int k = snprintf(allow + len, allow_size - len, "%s, ",
-                             names[i].name);
-            if (k < 0 || (size_t)k >= allow_size - len) return;
-            len += (size_t)k;
+            size_t k = strlen(names[i].name);
+            memcpy(list + len, names[i].name, k);
+            memcpy(list + len + k, ", ", 2);
+            len += k + 2;
         }
     }
-    snprintf(allow + len, allow_size - len, "OPTIONS");
+    memcpy(list + len, "OPTIONS", sizeof "OPTIONS");
+    len += sizeof "OPTIONS" - 1;
+    if (len >= allow_size) len = allow_size - 1;
+    memcpy(allow, list, len);
+    allow[len] = '\0';
 }
 
 srv_match srv_route_match(const char *method, const char *path,

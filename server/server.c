@@ -136,6 +136,14 @@ typedef struct compute_job {
 
 enum { PH_BODY, PH_WAIT, PH_DONE };
 
+/* The request headers the handlers read, found in one pass over them
+ * (collect_header) instead of a lookup each; NULL when absent. Borrowed
+ * from libmicrohttpd, valid until the request completes. */
+typedef struct req_headers {
+    const char *accept, *accept_encoding, *content_length, *content_type,
+        *transfer_encoding, *request_id;
+} req_headers;
+
 typedef struct req {
     srv_server *srv;
     int64_t t0_ns;
@@ -147,6 +155,7 @@ typedef struct req {
     char path[256];
     char id[80];
     char allow[48];
+    req_headers h;
     int phase;
     /* body intake */
     int collect;          /* keep the body (compute routes) */
@@ -614,8 +623,40 @@ static const char *header(struct MHD_Connection *conn, const char *name) {
     return MHD_lookup_connection_value(conn, MHD_HEADER_KIND, name);
 }
 
-static int client_takes_gzip(struct MHD_Connection *conn) {
-    return srv_accepts_gzip(header(conn, "Accept-Encoding"));
+static int client_takes_gzip(const req *q) {
+    return srv_accepts_gzip(q->h.accept_encoding);
+}
+
+/* MHD_get_connection_values callback: the first of each header in
+ * req_headers, matched without regard to case as libmicrohttpd's own
+ * lookup does. */
+static enum MHD_Result collect_header(void *cls, enum MHD_ValueKind kind,
+                                      const char *key, const char *value) {
+    req_headers *h = cls;
+    const char **slot = NULL;
+    (void)kind;
+    if (key == NULL) return MHD_YES;
+    switch (key[0]) {
+    case 'A': case 'a':
+        if (strcasecmp(key, "Accept") == 0) slot = &h->accept;
+        else if (strcasecmp(key, "Accept-Encoding") == 0)
+            slot = &h->accept_encoding;
+        break;
+    case 'C': case 'c':
+        if (strcasecmp(key, "Content-Length") == 0) slot = &h->content_length;
+        else if (strcasecmp(key, "Content-Type") == 0)
+            slot = &h->content_type;
+        break;
+    case 'T': case 't':
+        if (strcasecmp(key, "Transfer-Encoding") == 0)
+            slot = &h->transfer_encoding;
+        break;
+    case 'X': case 'x':
+        if (strcasecmp(key, "X-Request-Id") == 0) slot = &h->request_id;
+        break;
+    }
+    if (slot != NULL && *slot == NULL) *slot = value;
+    return MHD_YES;
 }
 
 static enum MHD_Result handle_asset(req *q, struct MHD_Connection *conn,
@@ -639,12 +680,12 @@ static enum MHD_Result handle_asset(req *q, struct MHD_Connection *conn,
         status = 304;
         resp = MHD_create_response_from_buffer(0, (void *)"",
                                                MHD_RESPMEM_PERSISTENT);
-    } else if (client_takes_gzip(conn) && a.gz != NULL) {
+    } else if (client_takes_gzip(q) && a.gz != NULL) {
         len = a.gz_len;
         gz = 1;
         resp = MHD_create_response_from_buffer(len, (void *)a.gz,
                                                MHD_RESPMEM_PERSISTENT);
-    } else if (client_takes_gzip(conn) && a.owned != NULL &&
+    } else if (client_takes_gzip(q) && a.owned != NULL &&
                a.len >= SRV_GZIP_MIN) {
         char *z;
         size_t zn;
@@ -697,7 +738,7 @@ static enum MHD_Result handle_metrics(req *q, struct MHD_Connection *conn) {
     size_t len;
     char *text = api_buf_take(&b, &len);
     return send_text(q, conn, 200, "text/plain; version=0.0.4; charset=utf-8",
-                     text, len, client_takes_gzip(conn));
+                     text, len, client_takes_gzip(q));
 }
 
 static enum MHD_Result handle_json_status(req *q, struct MHD_Connection *conn,
@@ -899,7 +940,7 @@ static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
     if (opts.overflow)
         return send_problem(q, conn, API_MALFORMED, NULL, 0,
                             "more than %d query parameters", MAX_OPTIONS);
-    const char *accept = header(conn, "Accept");
+    const char *accept = q->h.accept;
     api_request scratch;
     api_request_init(&scratch);
     api_code c = api_format_from_accept(&scratch, accept, &p);
@@ -910,7 +951,7 @@ static enum MHD_Result start_compute(req *q, struct MHD_Connection *conn) {
 
     int compare = q->route == SRV_ROUTE_COMPARE;
     const char *instance = compare ? "/compare" : "/voronoi";
-    int gzip_ok = client_takes_gzip(conn);
+    int gzip_ok = client_takes_gzip(q);
     job_input in = {compare, q->kind, q->body, q->len, accept,
                     opts.n, opts.key, opts.val};
     enum MHD_Result rc;
@@ -988,8 +1029,8 @@ static int has_asset(const char *path, void *ctx) {
     return srv_assets_has(ctx, path);
 }
 
-static void make_request_id(req *q, struct MHD_Connection *conn) {
-    const char *given = header(conn, "X-Request-Id");
+static void make_request_id(req *q) {
+    const char *given = q->h.request_id;
     if (given != NULL) {
         size_t n = strlen(given);
         int ok = n > 0 && n < 72;
@@ -1015,25 +1056,25 @@ static void make_request_id(req *q, struct MHD_Connection *conn) {
 }
 
 /* Body announced? (Content-Length > 0 or a transfer coding.) */
-static int body_announced(req *q, struct MHD_Connection *conn) {
+static int body_announced(const req *q) {
     return (q->has_cl && q->content_length > 0) ||
-           header(conn, "Transfer-Encoding") != NULL;
+           q->h.transfer_encoding != NULL;
 }
 
 /* First call: headers are in, no body yet. */
 static enum MHD_Result on_headers(req *q, struct MHD_Connection *conn) {
     srv_server *s = q->srv;
-    const char *cl = header(conn, "Content-Length");
+    const char *cl = q->h.content_length;
     if (cl != NULL) {
         char *end;
         unsigned long long v = strtoull(cl, &end, 10);
         q->has_cl = end != cl && *end == '\0';
         q->content_length = q->has_cl ? v : 0;
     }
-    if (q->match == SRV_MATCH_NOT_FOUND && body_announced(q, conn))
+    if (q->match == SRV_MATCH_NOT_FOUND && body_announced(q))
         return send_problem(q, conn, API_NOT_FOUND, NULL, 0,
                             "no resource at this path");
-    if (q->match == SRV_MATCH_METHOD && body_announced(q, conn))
+    if (q->match == SRV_MATCH_METHOD && body_announced(q))
         return send_problem(q, conn, API_METHOD, q->allow, 0,
                             "%s is not allowed here; allowed: %s",
                             q->method_name, q->allow);
@@ -1047,7 +1088,7 @@ static enum MHD_Result on_headers(req *q, struct MHD_Connection *conn) {
         (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE)) {
         api_problem p;
         memset(&p, 0, sizeof p);
-        if (api_input_from_content_type(header(conn, "Content-Type"),
+        if (api_input_from_content_type(q->h.content_type,
                                         &q->kind, &p) != API_OK)
             return send_api_problem(q, conn, &p);
         q->collect = 1;
@@ -1139,6 +1180,14 @@ static enum MHD_Result on_complete(req *q, struct MHD_Connection *conn) {
                         "no resource at this path");
 }
 
+/* url into dst (size > 0), cut to fit and terminated as snprintf would,
+ * without its cost on every request. NULL gives "". */
+static void copy_path(char *dst, size_t size, const char *url) {
+    size_t n = url != NULL ? strnlen(url, size - 1) : 0;
+    if (n > 0) memcpy(dst, url, n);
+    dst[n] = '\0';
+}
+
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
                                   const char *url, const char *method,
                                   const char *version,
@@ -1159,9 +1208,11 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
         q->unix_t0 = (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
         q->points = -1;
         printable(q->method_name, sizeof q->method_name, method, 8);
-        snprintf(q->path, sizeof q->path, "%s", url ? url : "");
+        copy_path(q->path, sizeof q->path, url);
         q->method = srv_method_bit(method);
-        make_request_id(q, conn);
+        MHD_get_connection_values(conn, MHD_HEADER_KIND, collect_header,
+                                  &q->h);
+        make_request_id(q);
         atomic_fetch_add(&s->in_flight, 1);
         q->match = srv_route_match(method, q->path, has_asset, s->assets,
                                    &q->route, q->allow, sizeof q->allow);
