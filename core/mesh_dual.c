@@ -76,7 +76,11 @@
  * records' block the coordinates: at 10^6 sites each such array is a
  * fresh mapping that the kernel faults in and zeroes on first touch (a
  * tenth of a cold run), and reusing pages already touched spares 56 of
- * the 281 bytes per site so faulted in.
+ * the 281 bytes per site so faulted in. Small diagrams (up to about 120
+ * sites) keep outl, vid and the degree counts, and every diagram the
+ * scratch of its first fans, in vor__mesh_dual's frame (6 KiB): for a
+ * 10-site request the allocator's calls were a fifth of this file's
+ * instructions.
  */
 #include <assert.h>
 #include <stdlib.h>
@@ -98,9 +102,16 @@
  * walked that way (a longer one is walked again, alone). */
 #define BLOCK 32
 #define BLOCK_FAN 24
-_Static_assert(BLOCK_FAN < 64, "a block walk's fan fits the first scratch");
 /* How many sites ahead the sweep prefetches vid and the twin slots. */
 #define SWEEP_AHEAD 8
+/* Fan scratch slots that live in vor__mesh_dual's frame (about 4 KiB);
+ * only a vertex of higher degree makes the scratch move to the heap. */
+#define FAN0 64
+_Static_assert(BLOCK_FAN < FAN0, "a block walk's fan fits the first scratch");
+/* Words of vor__mesh_dual's frame that hold outl, the degree counts and
+ * vid when together they fit (n + n + T words: up to about 120 sites),
+ * so that a small diagram allocates only what it returns. */
+#define SMALL_WORDS 512
 
 /* Results of the passes besides a vor_status. PASS_BROKEN: the mesh breaks
  * its contract (a bug of ours: asserted in a debug build). */
@@ -121,10 +132,15 @@ typedef struct dual {
     uint32_t *outl; /* n: a half-edge out of each local vertex */
     uint64_t *rwt;  /* per record slot: neighbour site << 32 | left triangle */
     uint32_t *vid;  /* T: vertex id of each (finite) triangle */
-    /* scratch for one fan, cap slots */
+    /* scratch for one fan, cap slots: first in the caller's frame, then
+     * in one heap block (heap, NULL until then) */
     uint32_t *he, *wl, *ws;
     key_slot *ks, *kt, *km;
     size_t cap;
+    void *heap;
+    /* outl, vid and count's degrees are in the caller's frame (small):
+     * never freed */
+    uint32_t *small;
     /* the result being written, and how far */
     vor_diagram *d;
     size_t nv, ne, nr;
@@ -135,18 +151,46 @@ static void *xmalloc(size_t count, size_t size) {
     return vor__alloc_large(count, size);
 }
 
-/* Grows the fan scratch to at least k slots (doubling, at least 64). -1
- * when out of memory; arrays that did grow are kept, cap is unchanged. */
+/* The fan scratch in s's FAN0 slots (vor__mesh_dual's frame). */
+typedef struct fan_scratch {
+    key_slot ks[FAN0], kt[FAN0], km[FAN0];
+    uint32_t he[FAN0], wl[FAN0], ws[FAN0];
+} fan_scratch;
+
+static void scratch_init(dual *D, fan_scratch *s) {
+    D->ks = s->ks;
+    D->kt = s->kt;
+    D->km = s->km;
+    D->he = s->he;
+    D->wl = s->wl;
+    D->ws = s->ws;
+    D->cap = FAN0;
+}
+
+/* Grows the fan scratch to at least k slots (doubling) in one new heap
+ * block. The first cap entries of he, wl and ws are kept (a fan being
+ * walked); ks, kt and km are filled only after a reserve. -1 when out of
+ * memory, and nothing is changed. */
 static int reserve(dual *D, size_t k) {
     if (k <= D->cap) return 0;
-    size_t cap = D->cap ? D->cap : 64;
+    const size_t slot = 3 * sizeof(key_slot) + 3 * sizeof(uint32_t);
+    size_t cap = D->cap;
     while (cap < k) cap *= 2;
-    void *p;
-#define GROW(field)                                                        \
-    if (!(p = realloc(D->field, cap * sizeof *D->field))) return -1;       \
-    D->field = p;
-    GROW(he) GROW(wl) GROW(ws) GROW(ks) GROW(kt) GROW(km)
-#undef GROW
+    if (cap > SIZE_MAX / slot) return -1;
+    key_slot *ks = malloc(cap * slot);
+    if (!ks) return -1;
+    uint32_t *he = (uint32_t *)(ks + 3 * cap);
+    memcpy(he, D->he, D->cap * sizeof *he);
+    memcpy(he + cap, D->wl, D->cap * sizeof *he);
+    memcpy(he + 2 * cap, D->ws, D->cap * sizeof *he);
+    free(D->heap);
+    D->heap = ks;
+    D->ks = ks;
+    D->kt = ks + cap;
+    D->km = ks + 2 * cap;
+    D->he = he;
+    D->wl = he + cap;
+    D->ws = he + 2 * cap;
     D->cap = cap;
     return 0;
 }
@@ -273,7 +317,7 @@ static int build_records(dual *D) {
         }
         size_t deg = fdeg[j];
         const uint32_t *he, *wl, *ws = D->ws;
-        if (deg) { /* fits the scratch: cap >= 64 > BLOCK_FAN */
+        if (deg) { /* fits the scratch: cap >= FAN0 > BLOCK_FAN */
             he = fan[j];
             wl = fanw[j];
             for (size_t k = 0; k < deg; k++) {
@@ -500,8 +544,13 @@ static int count(dual *D) {
     const size_t n = D->n, T = D->T;
     const uint32_t *tri = D->tri, *order = D->order;
     uint32_t *cs = D->d->cell_start, *outl = D->outl;
-    uint32_t *deg = calloc(n ? n : 1, sizeof *deg); /* per local vertex */
-    if (!deg) return PASS_NOMEM;
+    uint32_t *deg; /* per local vertex */
+    if (D->small) {
+        deg = D->small + n;
+        memset(deg, 0, n * sizeof *deg);
+    } else if (!(deg = calloc(n ? n : 1, sizeof *deg))) {
+        return PASS_NOMEM;
+    }
     size_t h = 0;
     for (size_t t = 0; t < T; t++) {
         const uint32_t *v = tri + 3 * t;
@@ -524,7 +573,7 @@ static int count(dual *D) {
     }
     D->h = h;
     for (size_t v = 0; v < n; v++) cs[order[v]] = deg[v];
-    free(deg);
+    if (!D->small) free(deg);
     size_t nc = 0;
     for (size_t i = 0; i < n; i++) {
         uint32_t k = cs[i];
@@ -569,6 +618,8 @@ static int alloc_result(dual *D, size_t ne, size_t nr) {
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
                           uint32_t *order, vor_diagram **out) {
     dual D;
+    fan_scratch fan;
+    uint32_t small[SMALL_WORDS];
     memset(&D, 0, sizeof D);
     vor_status st = VOR_ENOMEM;
     int r;
@@ -581,10 +632,13 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     D.adj = m->adj;
     D.lxy = lxy;
     D.order = order;
+    scratch_init(&D, &fan);
+    if (T <= SMALL_WORDS && 2 * n <= SMALL_WORDS - T) /* outl, deg; vid */
+        D.small = small;
 
     vor_diagram *d = D.d = calloc(1, sizeof *d);
-    D.outl = xmalloc(n, sizeof *D.outl);
-    if (!d || !D.outl || reserve(&D, 64)) goto done;
+    D.outl = D.small ? D.small : xmalloc(n, sizeof *D.outl);
+    if (!d || !D.outl) goto done;
     d->n_sites = n;
     d->cell_start = xmalloc(n + 1, sizeof *d->cell_start);
     if (!d->cell_start || count(&D) != PASS_OK) goto done;
@@ -604,7 +658,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         D.adj = NULL;
         free(lxy);
         lxy = NULL;
-        free(D.outl);
+        if (!D.small) free(D.outl);
         D.outl = NULL;
         free(order);
         order = NULL;
@@ -617,7 +671,8 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
          * can take the pages lxy, outl and order just left where the
          * allocator keeps them, while tri's would stay resident beside
          * them (184 instead of 172 bytes per site at the peak, 10^6) */
-        if (!(D.vid = xmalloc(T, sizeof *D.vid))) goto done;
+        D.vid = D.small ? D.small + 2 * n : xmalloc(T, sizeof *D.vid);
+        if (!D.vid) goto done;
         if (alloc_result(&D, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
@@ -625,7 +680,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         restore_adj(&D);
         vor_diagram_free(d);
         D.d = NULL;
-        free(D.outl);
+        if (!D.small) free(D.outl);
         free(D.rwt);
         D.outl = NULL;
         D.rwt = NULL;
@@ -639,7 +694,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         st = status_of(r);
         goto done;
     }
-    free(D.vid);
+    if (!D.small) free(D.vid);
     D.vid = NULL;
     vor__mesh_clear(m);
     free(lxy);
@@ -657,15 +712,12 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
 
 done:
     vor_diagram_free(D.d);
-    free(D.outl);
+    if (!D.small) {
+        free(D.outl);
+        free(D.vid);
+    }
     free(D.rwt);
-    free(D.vid);
-    free(D.he);
-    free(D.wl);
-    free(D.ws);
-    free(D.ks);
-    free(D.kt);
-    free(D.km);
+    free(D.heap);
     vor__mesh_clear(m);
     free(lxy);
     free(order);
