@@ -86,6 +86,42 @@ static inline void api__put_double(api_buf *b, double v) {
     }
 }
 
+/* ---- Cursors ----------------------------------------------------------
+ * The appends above read and write b->len around every byte, because a
+ * store through a char pointer may change any object, b included. A
+ * writer's inner loop instead takes a cursor (api__cur), appends through
+ * it with the api__w*() helpers below, which return the advanced cursor,
+ * and stores it back once (api__cur_end). The same reservation rule
+ * holds: everything written must fit the room reserved before. */
+static inline char *api__cur(const api_buf *b) { return b->data + b->len; }
+
+static inline void api__cur_end(api_buf *b, char *w) {
+    b->len = (size_t)(w - b->data);
+}
+
+static inline char *api__w(char *w, const char *s, size_t n) {
+    memcpy(w, s, n);
+    return w + n;
+}
+
+#define API__WLIT(w, lit) api__w((w), (lit), sizeof(lit) - 1)
+
+static inline char *api__wc(char *w, char c) {
+    *w = c;
+    return w + 1;
+}
+
+static inline char *api__wu32(char *w, uint32_t v) {
+    return w + api__fmt_u32(v, w);
+}
+
+/* Shortest round-trip form, or null when v is not finite. */
+static inline char *api__wdouble(char *w, double v) {
+    size_t n = api_num_format(v, w);
+    if (n == 0) return API__WLIT(w, "null");
+    return w + n;
+}
+
 /* Appends s as a JSON string literal (quotes, escapes; bytes >= 0x80 are
  * passed through, invalid UTF-8 is replaced by U+FFFD). Reserves itself;
  * -1 on allocation failure. */

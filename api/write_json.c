@@ -41,6 +41,15 @@ static inline void put_pair(api_buf *b, const double *xy) {
     api__putc(b, ']');
 }
 
+/* put_pair through a cursor (buf.h). */
+static inline char *w_pair(char *w, const double *xy) {
+    w = api__wc(w, '[');
+    w = api__wdouble(w, xy[0]);
+    w = api__wc(w, ',');
+    w = api__wdouble(w, xy[1]);
+    return api__wc(w, ']');
+}
+
 static int write_header(const api_result *res, api_buf *out) {
     const vor_sites *s = res->sites;
     const vor_diagram *d = res->diagram;
@@ -90,18 +99,15 @@ static int write_vertices(const vor_diagram *d, api_buf *out) {
     if (API_BUF_LIT(out, ",\"vertices\":[")) return -1;
     for (size_t v = 0; v < d->n_vertices; v++) {
         if (api__reserve(out, ITEM_ROOM)) return -1;
-        if (v) api__putc(out, ',');
-        put_pair(out, d->vertex_xy + 2 * v);
+        char *w = api__cur(out);
+        if (v) w = api__wc(w, ',');
+        api__cur_end(out, w_pair(w, d->vertex_xy + 2 * v));
     }
     return API_BUF_LIT(out, "]");
 }
 
-static inline void put_end(api_buf *b, int32_t v) {
-    if (v < 0) {
-        API__PUTS(b, "null");
-    } else {
-        api__put_u32(b, (uint32_t)v);
-    }
+static inline char *w_end(char *w, int32_t v) {
+    return v < 0 ? API__WLIT(w, "null") : api__wu32(w, (uint32_t)v);
 }
 
 static int write_edges(const api_result *res, api_buf *out) {
@@ -113,28 +119,29 @@ static int write_edges(const api_result *res, api_buf *out) {
         if (api__reserve(out, ITEM_ROOM)) return -1;
         uint32_t a = d->edge_sites[2 * e], b = d->edge_sites[2 * e + 1];
         int32_t e0 = d->edge_ends[2 * e], e1 = d->edge_ends[2 * e + 1];
-        if (e) api__putc(out, ',');
-        API__PUTS(out, "{\"sites\":[");
-        api__put_u32(out, api__input_index(s, a));
-        api__putc(out, ',');
-        api__put_u32(out, api__input_index(s, b));
-        API__PUTS(out, "],\"ends\":[");
-        put_end(out, e0);
-        api__putc(out, ',');
-        put_end(out, e1);
-        api__putc(out, ']');
+        char *w = api__cur(out);
+        if (e) w = api__wc(w, ',');
+        w = API__WLIT(w, "{\"sites\":[");
+        w = api__wu32(w, api__input_index(s, a));
+        w = api__wc(w, ',');
+        w = api__wu32(w, api__input_index(s, b));
+        w = API__WLIT(w, "],\"ends\":[");
+        w = w_end(w, e0);
+        w = api__wc(w, ',');
+        w = w_end(w, e1);
+        w = api__wc(w, ']');
         if (r < d->n_rays && d->ray_edge[r] == e) {
-            API__PUTS(out, ",\"ray\":");
-            put_pair(out, d->ray_dir + 2 * r);
+            w = API__WLIT(w, ",\"ray\":");
+            w = w_pair(w, d->ray_dir + 2 * r);
             r++;
             if (e0 < 0) {
                 double m[2];
                 api__midpoint(s->xy + 2 * (size_t)a, s->xy + 2 * (size_t)b, m);
-                API__PUTS(out, ",\"point\":");
-                put_pair(out, m);
+                w = API__WLIT(w, ",\"point\":");
+                w = w_pair(w, m);
             }
         }
-        api__putc(out, '}');
+        api__cur_end(out, api__wc(w, '}'));
     }
     return API_BUF_LIT(out, "]");
 }
@@ -146,19 +153,21 @@ static int write_cells(const api_result *res, api_buf *out) {
     for (size_t i = 0; i < s->n; i++) {
         uint32_t lo = d->cell_start[i], hi = d->cell_start[i + 1];
         if (api__reserve(out, 64 + 12 * (size_t)(hi - lo))) return -1;
-        if (i) api__putc(out, ',');
-        API__PUTS(out, "{\"site\":");
-        api__put_u32(out, api__input_index(s, i));
-        API__PUTS(out, ",\"edges\":[");
+        char *w = api__cur(out);
+        if (i) w = api__wc(w, ',');
+        w = API__WLIT(w, "{\"site\":");
+        w = api__wu32(w, api__input_index(s, i));
+        w = API__WLIT(w, ",\"edges\":[");
         for (uint32_t k = lo; k < hi; k++) {
-            if (k > lo) api__putc(out, ',');
-            api__put_u32(out, d->cell_edges[k]);
+            if (k > lo) w = api__wc(w, ',');
+            w = api__wu32(w, d->cell_edges[k]);
         }
         if (d->cell_bounded[i]) {
-            API__PUTS(out, "],\"bounded\":true}");
+            w = API__WLIT(w, "],\"bounded\":true}");
         } else {
-            API__PUTS(out, "],\"bounded\":false}");
+            w = API__WLIT(w, "],\"bounded\":false}");
         }
+        api__cur_end(out, w);
     }
     return API_BUF_LIT(out, "]");
 }
