@@ -21,15 +21,17 @@
  *     left neighbour's define it, and both are copied into the arc (one
  *     64-byte record), so that each level of the search reads one cache line.
  *     An arc stores the edge record of the breakpoint to its right.
- *   - Circle events: a binary min-heap of 24-byte entries (an interval for
- *     the event's y and a record index) holding only live events, at most
- *     one per arc; the record holds the arc and the triple of sites, and
- *     dense arrays beside it the heap position and what is known for
- *     tie-breaking. An event is deleted from the heap as soon as its
- *     triple changes, so no stale event is ever popped. (Lazy deletion was
- *     measured: the heap grows eightfold with cancelled far-future events
- *     and needs twice the comparisons.) Sites are not in the heap: the next
- *     site in sorted order is compared with the heap's top.
+ *   - Circle events: live events only, at most one per arc, each an
+ *     interval for the event's y and a record index; the record holds the
+ *     arc and the triple of sites, and dense arrays beside it the queue
+ *     position and what is known for tie-breaking. An event is replaced in
+ *     the queue as soon as its triple changes, so no stale event is ever
+ *     popped. (Lazy deletion was measured: the queue grows eightfold with
+ *     cancelled far-future events.) The queue is a set of buckets by y
+ *     while sites remain, O(1) per operation for sites spread in y, and a
+ *     binary heap when buckets crowd, after the last site and for small
+ *     inputs (see "Event queue"). Sites are not in the queue: the next
+ *     site in sorted order is compared with the earliest event.
  *   - Output: the Delaunay triangulation the sweep discovers, in the
  *     ghost-closed form of mesh.h, handed to vor__mesh_dual() (mesh_dual.c),
  *     which reads the canonical diagram off it as it does for Bowyer-Watson
@@ -53,9 +55,9 @@
  *     decided otherwise: by cheap proofs of equal tops (circles computed
  *     exactly in doubles, horizontal translates), by double-double bounds,
  *     and finally by exact integer arithmetic (a site against a square
- *     root, or two sums of a rational and a square root). The heap is
- *     ordered by this exact comparison, so its top is always the next
- *     event;
+ *     root, or two sums of a rational and a square root). The queue is
+ *     ordered by this exact comparison (the buckets only narrow down where
+ *     to look), so its earliest event is always the next one;
  *   - cocircular sites produce several triangles with one circumcircle
  *     (zero-length Voronoi edges between them); the conversion finds them
  *     with the exact incircle and makes the centre of 4+ cocircular sites
@@ -64,15 +66,17 @@
  *     arcs separated by vertical bisectors, unbounded below.
  *
  * Cost: O(n log n) time: sorting O(n), each site one search of the tree
- * (O(log n) breakpoint predicates), each event O(log n) heap and tree work;
- * about 1 us of CPU per uniform site at 10^6 sites, of which the heap takes a
- * third, the circle-top filter a seventh. Exact arithmetic runs only near
- * degeneracies. Memory: the sorted copy (20 bytes per site), the mesh
- * (2n - 2 triangles with ghosts, 48 bytes per site, in which the sort runs
- * before the sweep), edge records (at most 3n, 4 bytes each, few of them
- * ever touched), the beach line and heap (O(sqrt n) arcs for typical
- * input, at most 2n). The edge records and the beach line are freed before
- * the conversion, which owns the rest.
+ * (O(log n) breakpoint predicates), each event O(log n) tree work and O(1)
+ * (buckets) or O(log n) (heap) queue work; about 1 us of CPU per uniform
+ * site at 10^6 sites, the conversion a third of it, the circle-top filter
+ * a seventh. Exact arithmetic runs only near degeneracies. Memory: the
+ * sorted copy (20 bytes per site), the mesh (2n - 2 triangles with ghosts,
+ * 48 bytes per site, in which the sort runs before the sweep), edge
+ * records (at most 3n, 4 bytes each, few of them ever touched), the
+ * buckets (4 bytes per site, while sites remain), the beach line and queue
+ * (O(sqrt n) arcs for typical input, at most 2n). The edge records, the
+ * beach line and the queue are freed before the conversion, which owns the
+ * rest.
  */
 #include <assert.h>
 #include <float.h>
@@ -100,13 +104,13 @@ typedef struct arc {
     uint32_t ev; /* event record of this arc's triple, or NO_EVENT */
 } arc;
 
-/* A heap entry: lo <= y of the circle's top <= hi. */
+/* A queue entry: lo <= y of the circle's top <= hi. */
 typedef struct event {
     double lo, hi;
     uint32_t rec;
 } event;
 
-/* An event record: alive while its event is in the heap. (Its heap
+/* An event record: alive while its event is in the queue. (Its queue
  * position is kept apart, in sweep.hpos: the heap's moves write it at every
  * level, and a dense array keeps those writes in few cache lines.) */
 typedef struct evrec {
@@ -127,10 +131,20 @@ typedef struct sweep {
     uint32_t free_arcs; /* list of freed arcs through .next */
     uint32_t root;
 
+    /* The event queue (see "Event queue"): n_heap live events, in
+     * buckets while bhead is set, else in the heap. */
     event *heap; /* cap_recs entries: one per live record */
     uint32_t n_heap;
+    uint32_t *bhead;   /* n_buckets: first record of each bucket's list */
+    uint32_t n_buckets;
+    uint32_t cur;      /* no live event in a bucket below cur */
+    uint32_t top;      /* the earliest live event's record, or NO_EVENT */
+    double y0, bscale; /* bucket of lo: (lo - y0) * bscale, clamped */
+    event *ekey;       /* per record: its event (buckets only) */
+    uint32_t *blink;   /* per record: previous and next in its bucket */
+    size_t scanned, budget; /* bucket entries read; the limit so far */
     evrec *recs;
-    uint32_t *hpos; /* heap position of each live record */
+    uint32_t *hpos; /* per live record: heap position, or bucket */
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
@@ -744,7 +758,7 @@ static uint32_t locate(const sweep *w, const double *p, int *on) {
     return found;
 }
 
-/* ---- Event heap ---------------------------------------------------------- */
+/* ---- Event records and the heap ------------------------------------------ */
 
 /* A free event record, or NO_EVENT if out of memory. The heap grows with
  * the records, one entry per record. */
@@ -773,6 +787,12 @@ static uint32_t rec_new(sweep *w) {
         event *nh = realloc(w->heap, (size_t)cap * sizeof *nh);
         if (!nh) return NO_EVENT;
         w->heap = nh;
+        event *ne = realloc(w->ekey, (size_t)cap * sizeof *ne);
+        if (!ne) return NO_EVENT;
+        w->ekey = ne;
+        uint32_t *nb = realloc(w->blink, 2 * (size_t)cap * sizeof *nb);
+        if (!nb) return NO_EVENT;
+        w->blink = nb;
         w->cap_recs = cap;
     }
     return w->n_recs++;
@@ -910,12 +930,140 @@ static void heap_remove(sweep *w, uint32_t pos) {
     sift_up(w, pos, last);
 }
 
+/* ---- Event queue ---------------------------------------------------------
+ *
+ * While sites remain, the events are kept in buckets by the low end of
+ * their interval: bucket k holds the events whose lo maps to k under
+ * (lo - y0) * bscale (truncated, clamped to the buckets), a monotone map;
+ * the buckets split the sites' y range evenly, one per site, so that for
+ * sites spread in y a bucket holds one or two events. The earliest event
+ * lies in the first non-empty bucket, k, or in a later bucket no further
+ * than that of its own hi (an earlier event's lo is below the earliest's
+ * hi), so finding it reads those few buckets with the exact ev_before().
+ * Inserting and removing are O(1): each bucket is a doubly linked list of
+ * records. A binary heap had to walk a dozen levels for every event
+ * removed, the largest single cost of the sweep (a sixth of Fortune's
+ * time at 10^6 uniform sites).
+ *
+ * Buckets fail when the events crowd into few of them (clustered sites);
+ * the entries read are counted, and beyond BUCKET_READS per event on
+ * average the events move into the heap, O(log n) per operation whatever
+ * the input. They also move there after the last site, when buckets
+ * would no longer split anything, and the heap serves small inputs.
+ */
+#define BUCKET_MIN_SITES 64
+#define BUCKET_READS 16
+
+static inline uint32_t ev_bucket(const sweep *w, double lo) {
+    double t = (lo - w->y0) * w->bscale;
+    return t >= 0 ? t < (double)w->n_buckets ? (uint32_t)t : w->n_buckets - 1
+                  : 0;
+}
+
+/* Links record r, whose event is set, into its bucket. */
+static void bucket_link(sweep *w, uint32_t r) {
+    uint32_t k = ev_bucket(w, w->ekey[r].lo), h = w->bhead[k];
+    w->hpos[r] = k;
+    w->blink[2 * r] = NO_EVENT;
+    w->blink[2 * r + 1] = h;
+    if (h != NO_EVENT) w->blink[2 * h] = r;
+    w->bhead[k] = r;
+    if (k < w->cur) w->cur = k;
+}
+
+static void bucket_unlink(sweep *w, uint32_t r) {
+    uint32_t p = w->blink[2 * r], q = w->blink[2 * r + 1];
+    if (p != NO_EVENT)
+        w->blink[2 * p + 1] = q;
+    else
+        w->bhead[w->hpos[r]] = q;
+    if (q != NO_EVENT) w->blink[2 * q] = p;
+}
+
+/* Finds the earliest event in the buckets (there is one) for w->top. */
+static uint32_t bucket_top(sweep *w) {
+    uint32_t k = w->cur;
+    while (w->bhead[k] == NO_EVENT) k++;
+    w->cur = k;
+    uint32_t m = w->bhead[k];
+    for (uint32_t j = k, last = k; j <= last; j++) {
+        for (uint32_t r = w->bhead[j]; r != NO_EVENT;
+             r = w->blink[2 * r + 1]) {
+            w->scanned++;
+            if (r != m && ev_before(w, &w->ekey[r], &w->ekey[m])) m = r;
+        }
+        last = ev_bucket(w, w->ekey[m].hi);
+    }
+    w->top = m;
+    return m;
+}
+
+/* Moves every event from the buckets into the heap (Floyd's heap
+ * construction), for good. */
+static void to_heap(sweep *w) {
+    uint32_t n = 0;
+    for (uint32_t k = w->cur; n < w->n_heap; k++) {
+        assert(k < w->n_buckets);
+        for (uint32_t r = w->bhead[k]; r != NO_EVENT; r = w->blink[2 * r + 1])
+            heap_put(w, n++, w->ekey[r]);
+    }
+    for (uint32_t i = n / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
+    free(w->bhead);
+    w->bhead = NULL;
+}
+
+/* The earliest event (the queue is not empty). */
+static inline const event *q_top(sweep *w) {
+    if (!w->bhead) return &w->heap[0];
+    uint32_t t = w->top;
+    return &w->ekey[t != NO_EVENT ? t : bucket_top(w)];
+}
+
+/* Adds event e, whose record holds nothing in the queue. */
+static void q_insert(sweep *w, event e) {
+    if (w->bhead) {
+        w->ekey[e.rec] = e;
+        bucket_link(w, e.rec);
+        w->n_heap++;
+        if (w->top != NO_EVENT && ev_before(w, &e, &w->ekey[w->top]))
+            w->top = e.rec;
+    } else {
+        w->n_heap++;
+        sift_up(w, w->n_heap - 1, e);
+    }
+}
+
+/* Removes record r's event. */
+static void q_remove(sweep *w, uint32_t r) {
+    if (w->bhead) {
+        bucket_unlink(w, r);
+        w->n_heap--;
+        if (w->top == r) w->top = NO_EVENT;
+    } else {
+        heap_remove(w, w->hpos[r]);
+    }
+}
+
+/* Record e.rec's event becomes e. */
+static void q_update(sweep *w, event e) {
+    if (w->bhead) {
+        q_remove(w, e.rec);
+        q_insert(w, e);
+        return;
+    }
+    uint32_t pos = w->hpos[e.rec];
+    if (pos > 0 && ev_before(w, &e, &w->heap[(pos - 1) / 2]))
+        sift_up(w, pos, e);
+    else
+        sift_down(w, pos, e);
+}
+
 /* Deletes arc b's circle event, if it has one. */
 static void drop_event(sweep *w, uint32_t b) {
     uint32_t r = ARC(b).ev;
     if (r == NO_EVENT) return;
     ARC(b).ev = NO_EVENT;
-    heap_remove(w, w->hpos[r]);
+    q_remove(w, r);
     rec_free(w, r);
 }
 
@@ -949,9 +1097,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
-    event e = {lo, hi, r};
-    w->n_heap++;
-    sift_up(w, w->n_heap - 1, e);
+    q_insert(w, (event){lo, hi, r});
     ARC(b).ev = r;
     return VOR_OK;
 }
@@ -968,12 +1114,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
         return VOR_OK;
     }
     rec_fill(w, r, b);
-    event e = {lo, hi, r};
-    uint32_t pos = w->hpos[r];
-    if (pos > 0 && ev_before(w, &e, &w->heap[(pos - 1) / 2]))
-        sift_up(w, pos, e);
-    else
-        sift_down(w, pos, e);
+    q_update(w, (event){lo, hi, r});
     return VOR_OK;
 }
 
@@ -1047,7 +1188,7 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 
 /* 1 if the event at the top of the heap comes before site p. */
 static int event_first(sweep *w, const double *p) {
-    const event *e = &w->heap[0];
+    const event *e = q_top(w);
     if (e->lo > p[1]) return 0;
     if (e->hi < p[1]) return 1;
     const uint32_t *t = w->recs[e->rec].s;
@@ -1078,10 +1219,11 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     w->row = (uint32_t)i;
     for (;;) {
         vor_status st;
+        if (w->bhead && (i == n || w->scanned > w->budget)) to_heap(w);
+        w->budget += BUCKET_READS;
         if (w->n_heap > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
-            const event *e = &w->heap[0];
-            uint32_t b = w->recs[e->rec].arc;
+            uint32_t b = w->recs[q_top(w)->rec].arc;
             drop_event(w, b);
             st = circle_event(w, b);
         } else if (i < n) {
@@ -1099,6 +1241,9 @@ static void sweep_free(sweep *w) {
     free(w->arcs);
     free(w->red);
     free(w->heap);
+    free(w->bhead);
+    free(w->ekey);
+    free(w->blink);
     free(w->recs);
     free(w->hpos);
     free(w->cache);
@@ -1174,15 +1319,30 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.recs = malloc(w.cap_recs * sizeof *w.recs);
     w.heap = malloc(w.cap_recs * sizeof *w.heap);
     w.hpos = malloc(w.cap_recs * sizeof *w.hpos);
+    w.ekey = malloc(w.cap_recs * sizeof *w.ekey);
+    w.blink = malloc(2 * (size_t)w.cap_recs * sizeof *w.blink);
     w.cache = malloc(6 * (size_t)w.cap_recs * sizeof *w.cache);
     w.known = malloc(w.cap_recs);
     w.cap_edges = 3 * w.n;
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.recs || !w.hpos || !w.heap || !w.cache || !w.known || !w.ehe ||
-        !w.tri || !w.adj || !w.ws)
+    if (!w.arcs || !w.red || !w.recs || !w.hpos || !w.ekey || !w.blink ||
+        !w.heap || !w.cache || !w.known || !w.ehe || !w.tri || !w.adj || !w.ws)
         goto fail;
+    w.top = NO_EVENT;
+    if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX) {
+        /* one bucket per site over the sites' y range, if it has a width */
+        w.y0 = w.xy[1];
+        w.n_buckets = (uint32_t)w.n;
+        w.bscale = (double)w.n_buckets / (w.xy[2 * w.n - 1] - w.y0);
+        w.budget = 64 * (size_t)BUCKET_READS;
+        if (w.bscale > 0 && w.bscale <= DBL_MAX) {
+            w.bhead = malloc(w.n_buckets * sizeof *w.bhead);
+            if (!w.bhead) goto fail;
+            memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */
+        }
+    }
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
     w.red[NIL] = 0;
     w.n_arcs = 1;

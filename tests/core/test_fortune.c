@@ -774,6 +774,62 @@ static void test_sort_paths(void **state) {
     }
 }
 
+/* The event queue's paths (fortune.c, "Event queue"): buckets for the whole
+ * sweep (uniform sites); events whose tops lie exactly on bucket
+ * boundaries, so that the earliest event is looked for in the next bucket
+ * too (a thin checkerboard of 4R sites over a y range of R: one bucket per
+ * quarter unit, and each square of four sites has its top at an integer);
+ * buckets crowded past their budget, so that the events move into the heap
+ * in mid-sweep (a flat band and one far site); and small integer sets just
+ * above the size from which buckets are used, where equal tops are the
+ * rule. */
+static void test_event_queue(void **state) {
+    (void)state;
+    size_t n = 20000;
+    double *xy = vt_uniform(n, 31);
+    assert_non_null(xy);
+    print_message("event queue: vt_uniform seed 31\n");
+    check_points("uniform, buckets throughout", xy, n, 1);
+    for (size_t i = 0; i < n; i++) xy[2 * i + 1] *= 1e-6;
+    xy[1] = 1e3;
+    check_points("flat band and a far site", xy, n, 1);
+    free(xy);
+
+    enum { R = 400 };
+    double *cb = malloc(2 * 4 * (size_t)R * sizeof *cb);
+    assert_non_null(cb);
+    size_t m = 0;
+    for (int y = 0; y <= R; y++) {
+        int row = y == 0 ? 3 : y == R ? 1 : 4; /* 4 (R + 1) - 4 sites */
+        for (int k = 0; k < row; k++) {
+            cb[2 * m] = 2 * k + (y & 1);
+            cb[2 * m + 1] = y;
+            m++;
+        }
+    }
+    assert_int_equal(m, 4 * (size_t)R);
+    check_points("checkerboard, tops on bucket boundaries", cb, m, 1);
+    free(cb);
+
+    const uint64_t base = 4242;
+    const int count = 200;
+    print_message("event queue: integer seeds %llu..%llu\n",
+                  (unsigned long long)base,
+                  (unsigned long long)(base + count - 1));
+    for (int k = 0; k < count; k++) {
+        vt_rng r = {base + (uint64_t)k};
+        size_t c = 64 + (size_t)(vt_next(&r) % 200);
+        long range = 8 + (long)(vt_next(&r) % 40);
+        double pts[2 * 264];
+        for (size_t i = 0; i < 2 * c; i++)
+            pts[i] = (double)(vt_next(&r) % (uint64_t)range);
+        char name[64];
+        snprintf(name, sizeof name, "seed %llu (n %zu, range %ld)",
+                 (unsigned long long)(base + (uint64_t)k), c, range);
+        check_points(name, pts, c, 1);
+    }
+}
+
 /* 0, 1, 2 and collinear sites through vor_compute (the degenerate builder),
  * and the entry point's own argument checks. */
 static void test_trivial_inputs(void **state) {
@@ -869,6 +925,7 @@ int main(void) {
         cmocka_unit_test(test_rows),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_sort_paths),
+        cmocka_unit_test(test_event_queue),
         cmocka_unit_test(test_alloc_failures),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_small_random),
