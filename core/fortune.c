@@ -148,6 +148,7 @@ typedef struct sweep {
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
+    void *rec_block; /* the one allocation behind the per-record arrays */
     uint32_t free_recs; /* list of freed records through .arc */
 
     /* Edge records: the half-edge of an edge's first end, or NO_END. A
@@ -760,6 +761,46 @@ static uint32_t locate(const sweep *w, const double *p, int *on) {
 
 /* ---- Event records and the heap ------------------------------------------ */
 
+/* Gives the per-record arrays room for cap records, in one allocation
+ * (most inputs are small, and their sweeps then cost one malloc for all of
+ * it), keeping the n_recs records there are. -1 if out of memory, with
+ * nothing changed. */
+static int recs_resize(sweep *w, uint32_t cap) {
+    size_t c = cap, k = w->n_recs;
+    /* widest alignment first */
+    size_t bytes = c * (6 * sizeof(double) + 2 * sizeof(event) +
+                        sizeof(evrec) + 4 * sizeof(uint32_t) + 1);
+    char *p = malloc(bytes);
+    if (!p) return -1;
+    double *cache = (double *)p;
+    event *heap = (event *)(cache + 6 * c);
+    event *ekey = heap + c;
+    evrec *recs = (evrec *)(ekey + c);
+    uint32_t *blink = (uint32_t *)(recs + c);
+    uint32_t *hpos = blink + 2 * c;
+    uint8_t *known = (uint8_t *)(hpos + c);
+    if (k) {
+        memcpy(cache, w->cache, 6 * k * sizeof *cache);
+        memcpy(heap, w->heap, k * sizeof *heap);
+        memcpy(ekey, w->ekey, k * sizeof *ekey);
+        memcpy(recs, w->recs, k * sizeof *recs);
+        memcpy(blink, w->blink, 2 * k * sizeof *blink);
+        memcpy(hpos, w->hpos, k * sizeof *hpos);
+        memcpy(known, w->known, k);
+    }
+    free(w->rec_block);
+    w->rec_block = p;
+    w->cache = cache;
+    w->heap = heap;
+    w->ekey = ekey;
+    w->recs = recs;
+    w->blink = blink;
+    w->hpos = hpos;
+    w->known = known;
+    w->cap_recs = cap;
+    return 0;
+}
+
 /* A free event record, or NO_EVENT if out of memory. The heap grows with
  * the records, one entry per record. */
 static uint32_t rec_new(sweep *w) {
@@ -771,29 +812,7 @@ static uint32_t rec_new(sweep *w) {
     }
     if (w->n_recs == w->cap_recs) {
         if (w->cap_recs > UINT32_MAX / 4) return NO_EVENT;
-        uint32_t cap = 2 * w->cap_recs;
-        evrec *nr = realloc(w->recs, (size_t)cap * sizeof *nr);
-        if (!nr) return NO_EVENT;
-        w->recs = nr;
-        uint32_t *np = realloc(w->hpos, (size_t)cap * sizeof *np);
-        if (!np) return NO_EVENT;
-        w->hpos = np;
-        double *nc = realloc(w->cache, 6 * (size_t)cap * sizeof *nc);
-        if (!nc) return NO_EVENT;
-        w->cache = nc;
-        uint8_t *nk = realloc(w->known, cap);
-        if (!nk) return NO_EVENT;
-        w->known = nk;
-        event *nh = realloc(w->heap, (size_t)cap * sizeof *nh);
-        if (!nh) return NO_EVENT;
-        w->heap = nh;
-        event *ne = realloc(w->ekey, (size_t)cap * sizeof *ne);
-        if (!ne) return NO_EVENT;
-        w->ekey = ne;
-        uint32_t *nb = realloc(w->blink, 2 * (size_t)cap * sizeof *nb);
-        if (!nb) return NO_EVENT;
-        w->blink = nb;
-        w->cap_recs = cap;
+        if (recs_resize(w, 2 * w->cap_recs)) return NO_EVENT;
     }
     return w->n_recs++;
 }
@@ -1240,14 +1259,8 @@ static void sweep_free(sweep *w) {
     free(w->orig);
     free(w->arcs);
     free(w->red);
-    free(w->heap);
+    free(w->rec_block);
     free(w->bhead);
-    free(w->ekey);
-    free(w->blink);
-    free(w->recs);
-    free(w->hpos);
-    free(w->cache);
-    free(w->known);
     free(w->ehe);
     free(w->tri);
     free(w->adj);
@@ -1315,20 +1328,12 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.cap_arcs = 64;
     w.arcs = malloc(w.cap_arcs * sizeof *w.arcs);
     w.red = malloc(w.cap_arcs);
-    w.cap_recs = 64;
-    w.recs = malloc(w.cap_recs * sizeof *w.recs);
-    w.heap = malloc(w.cap_recs * sizeof *w.heap);
-    w.hpos = malloc(w.cap_recs * sizeof *w.hpos);
-    w.ekey = malloc(w.cap_recs * sizeof *w.ekey);
-    w.blink = malloc(2 * (size_t)w.cap_recs * sizeof *w.blink);
-    w.cache = malloc(6 * (size_t)w.cap_recs * sizeof *w.cache);
-    w.known = malloc(w.cap_recs);
+    if (recs_resize(&w, 64)) goto fail;
     w.cap_edges = 3 * w.n;
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.recs || !w.hpos || !w.ekey || !w.blink ||
-        !w.heap || !w.cache || !w.known || !w.ehe || !w.tri || !w.adj || !w.ws)
+    if (!w.arcs || !w.red || !w.ehe || !w.tri || !w.adj || !w.ws)
         goto fail;
     w.top = NO_EVENT;
     if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX) {
