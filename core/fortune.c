@@ -1006,6 +1006,8 @@ static uint32_t bucket_top(sweep *w) {
     w->cur = k;
     uint32_t m = w->bhead[k];
     for (uint32_t j = k, last = k; j <= last; j++) {
+        w->scanned++; /* a bucket read counts, empty or not: an event of
+                       * unbounded interval (hi = inf) reads them all */
         for (uint32_t r = w->bhead[j]; r != NO_EVENT;
              r = w->blink[2 * r + 1]) {
             w->scanned++;

@@ -780,7 +780,8 @@ static void test_sort_paths(void **state) {
  * too (a thin checkerboard of 4R sites over a y range of R: one bucket per
  * quarter unit, and each square of four sites has its top at an integer);
  * buckets crowded past their budget, so that the events move into the heap
- * in mid-sweep (a flat band and one far site); and small integer sets just
+ * in mid-sweep (a flat band and one far site; events of unbounded interval
+ * from nearly collinear sites); and small integer sets just
  * above the size from which buckets are used, where equal tops are the
  * rule. */
 static void test_event_queue(void **state) {
@@ -793,6 +794,11 @@ static void test_event_queue(void **state) {
     for (size_t i = 0; i < n; i++) xy[2 * i + 1] *= 1e-6;
     xy[1] = 1e3;
     check_points("flat band and a far site", xy, n, 1);
+    /* nearly collinear triples, whose float orientation is undecided:
+     * events with unbounded intervals, which read every bucket */
+    for (size_t i = 0; i < n; i++) xy[2 * i + 1] = xy[2 * i] / 3;
+    xy[1] = 0.9;
+    check_points("sites rounded onto a line, and one off it", xy, n, 1);
     free(xy);
 
     enum { R = 400 };
