@@ -3,11 +3,13 @@
  * JSON: a hand-written scanner walks the top level. The points array (the
  * only part that can be large) and the small number arrays ("bounds") are
  * read by our own streaming loop with the exact number shim (numconv.h), at
- * about 0.1 us a number, with no intermediate tree; every other member is
- * cut out of the body with a structural skip and decoded by jansson, so
- * string escapes and nested objects get a complete JSON parser. jansson
- * therefore only ever sees small values, and its error positions are
- * translated back into positions in the whole body.
+ * about 0.1 us a number, with no intermediate tree; "algorithm" and
+ * "format" given as plain strings (printable ASCII, no escapes) are copied
+ * as they stand; every other member is cut out of the body with a
+ * structural skip and decoded by jansson, so string escapes and nested
+ * objects get a complete JSON parser. jansson therefore only ever sees
+ * small values, and its error positions are translated back into
+ * positions in the whole body.
  *
  * Text: one point per line, two numbers separated by spaces, tabs, a comma
  * or a semicolon; '#' starts a comment; blank lines and a first line of
