@@ -218,17 +218,22 @@ static void test_high_degree(void **state) {
 }
 
 /* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
- * the fast path and on the cocircular fallback: VOR_ENOMEM, *out NULL,
- * nothing leaks (LeakSanitizer at exit); then the call succeeds. */
+ * the fast path (300 sites; 40 sites, whose scratch lives in
+ * vor__mesh_dual's frame) and on the cocircular fallback: VOR_ENOMEM, *out
+ * NULL, nothing leaks (LeakSanitizer at exit); then the call succeeds. */
 static void test_allocation_failures(void **state) {
     (void)state;
     double *u = vt_uniform(300, 3);
     double *g = vt_grid(12, 9);
-    vor_sites *sets[2] = {sites_of(u, 300), sites_of(g, 108)};
+    double *v = vt_uniform(40, 4);
+    vor_sites *sets[3] = {sites_of(u, 300), sites_of(g, 108), sites_of(v, 40)};
+    static const char *const set_names[3] = {"uniform", "grid (fallback)",
+                                             "small uniform"};
     free(u);
     free(g);
+    free(v);
     for (size_t a = 0; a < sizeof algos / sizeof *algos; a++) {
-        for (int k = 0; k < 2; k++) {
+        for (int k = 0; k < 3; k++) {
             long i;
             for (i = 0;; i++) {
                 vor_diagram *d = (vor_diagram *)1;
@@ -245,12 +250,11 @@ static void test_allocation_failures(void **state) {
                 assert_null(d);
             }
             printf("  %s, %s: %ld allocations failed in turn\n", algos[a].name,
-                   k ? "grid (fallback)" : "uniform", i);
+                   set_names[k], i);
             assert_true(i >= 12);
         }
     }
-    vor_sites_free(sets[0]);
-    vor_sites_free(sets[1]);
+    for (int k = 0; k < 3; k++) vor_sites_free(sets[k]);
 }
 
 int main(void) {
