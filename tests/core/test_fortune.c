@@ -781,9 +781,8 @@ static void test_sort_paths(void **state) {
  * quarter unit, and each square of four sites has its top at an integer);
  * buckets crowded past their budget, so that the events move into the heap
  * in mid-sweep (a flat band and one far site; events of unbounded interval
- * from nearly collinear sites); and small integer sets just
- * above the size from which buckets are used, where equal tops are the
- * rule. */
+ * from nearly collinear sites); and small integer sets just above the size
+ * from which buckets are used, where equal tops are the rule. */
 static void test_event_queue(void **state) {
     (void)state;
     size_t n = 20000;
