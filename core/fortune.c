@@ -138,11 +138,11 @@ typedef struct sweep {
     uint32_t *bhead;   /* n_buckets: first record of each bucket's list */
     uint32_t n_buckets;
     uint32_t cur;      /* no live event in a bucket below cur */
-    uint32_t top;      /* the earliest live event's record, or NO_EVENT */
+    uint32_t top;      /* the earliest event's record; NO_EVENT: unknown */
     double y0, bscale; /* bucket of lo: (lo - y0) * bscale, clamped */
     event *ekey;       /* per record: its event (buckets only) */
     uint32_t *blink;   /* per record: previous and next in its bucket */
-    size_t scanned, budget; /* bucket entries read; the limit so far */
+    size_t scanned, budget; /* buckets and entries read; the limit */
     evrec *recs;
     uint32_t *hpos; /* per live record: heap position, or bucket */
     double *cache; /* 6 per record: see event_dd() and event_exact() */

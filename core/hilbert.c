@@ -13,7 +13,7 @@
  * needs only a constant); each round's walk along the curve meets, at
  * every place, the triangles of every earlier round, which lie elsewhere
  * in memory, so fewer rounds miss the cache less: with a factor of 8
- * instead of 2 (5 rounds instead of 15 at 10^6 sites) the simulated
+ * instead of 2 (6 rounds instead of 15 at 10^6 sites) the simulated
  * last-level misses of a whole Bowyer-Watson run drop by a sixth.
  *
  * Representation: for every site one 64-bit word: its round, the top 22
@@ -199,7 +199,7 @@ static inline uint64_t splitmix64(uint64_t *s) {
  * before. */
 #define ROUND_BITS 3
 /* Rounds are numbered 0..MAX_ROUNDS-1 at most (5 bits in a sort word;
- * 2^30 sites need 25). */
+ * 2^32 sites need 10). */
 #define MAX_ROUNDS 32
 
 vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
@@ -221,7 +221,8 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
     quantiser_init(&qy, ymin, half);
 
     /* rounds: k rounds, the last taking each site with probability 7/8,
-     * the one before 7/64, ..., the first the remaining ~FIRST_ROUND / n */
+     * the one before 7/64, ..., the first the remaining ~FIRST_ROUND / n
+     * (the shift bound only keeps the shift inside size_t) */
     int k = 1;
     while (k < MAX_ROUNDS && ROUND_BITS * (k - 1) < 40 &&
            ((size_t)FIRST_ROUND << (ROUND_BITS * (k - 1))) < n)
@@ -245,9 +246,9 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
     for (size_t i = 0; i < n; i++) {
         uint32_t key = hilbert_key(big, quantise(&qx, xy[2 * i]),
                                    quantise(&qy, xy[2 * i + 1]));
-        /* z trailing zeros of a random word, capped at ROUND_BITS (k-1);
-         * t = z / ROUND_BITS is t with probability 8^-t (7/8), k-1 with
-         * the rest; round = k-1-t */
+        /* z trailing zeros of a random word, capped at ROUND_BITS * (k-1);
+         * t = z / ROUND_BITS is t with probability (7/8) 8^-t below k-1,
+         * and k-1 with the rest; round = k-1-t */
         if (nbits <= ROUND_BITS * (k - 1)) {
             bits = splitmix64(&seed);
             nbits = 64;
