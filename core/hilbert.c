@@ -228,8 +228,8 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
            ((size_t)FIRST_ROUND << (ROUND_BITS * (k - 1))) < n)
         k++;
 
-    uint64_t *w = malloc(n * sizeof *w);
-    uint64_t *tmp = malloc(n * sizeof *tmp);
+    uint64_t *w = vor__alloc_large(n, sizeof *w);
+    uint64_t *tmp = vor__alloc_large(n, sizeof *tmp);
     if (!w || !tmp) {
         free(w);
         free(tmp);

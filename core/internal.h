@@ -40,6 +40,18 @@ int vor_incircle(const double *a, const double *b, const double *c,
  * box = {xmin, ymin, xmax, ymax} of the n >= 1 points at xy (2n doubles). */
 void vor__bbox(const double *xy, size_t n, double box[4]);
 
+/* ---- Big arrays (core/mesh.c) ---------------------------------------------
+ * malloc(count * size) (NULL on overflow or failure; free with free()) for
+ * the big arrays of the sites, the mesh and the diagram: a block of 4 MiB
+ * or more is advised to the kernel as a candidate for huge pages (Linux's
+ * MADV_HUGEPAGE, where available; a hint, errors ignored). Arrays of a
+ * million sites are visited at random; with 4 KiB pages nearly every such
+ * visit misses the TLB, and touching them first costs a page fault per
+ * 4 KiB. */
+void *vor__alloc_large(size_t count, size_t size);
+/* The same, zeroed (calloc: a fresh mapping is not written twice). */
+void *vor__calloc_large(size_t count, size_t size);
+
 /* ---- Spatial order (core/hilbert.c) --------------------------------------
  * Fills order[0..n-1] with the site indices 0..n-1 in an order suited to
  * incremental insertion (Hilbert curve with biased randomised rounds, BRIO),

@@ -42,13 +42,8 @@ void vor__mesh_clear(vor__mesh *m) {
     m->cap_tri = 0;
 }
 
-void *vor__alloc_large(size_t count, size_t size) {
-    if (count == 0)
-        count = 1;
-    if (count > SIZE_MAX / size)
-        return NULL;
-    size_t bytes = count * size;
-    void *p = malloc(bytes);
+/* Advises the whole 2 MiB pages inside a block of bytes at p. */
+static void advise_huge(void *p, size_t bytes) {
 #if defined(MADV_HUGEPAGE)
     const uintptr_t huge = (uintptr_t)1 << 21;
     if (p && bytes >= 2 * huge) {
@@ -57,7 +52,28 @@ void *vor__alloc_large(size_t count, size_t size) {
         if (hi > lo)
             (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
     }
+#else
+    (void)p;
+    (void)bytes;
 #endif
+}
+
+void *vor__alloc_large(size_t count, size_t size) {
+    if (count == 0)
+        count = 1;
+    if (count > SIZE_MAX / size)
+        return NULL;
+    void *p = malloc(count * size);
+    advise_huge(p, count * size);
+    return p;
+}
+
+void *vor__calloc_large(size_t count, size_t size) {
+    if (count == 0)
+        count = 1;
+    void *p = calloc(count, size); /* checks the product */
+    if (p)
+        advise_huge(p, count * size);
     return p;
 }
 
@@ -230,7 +246,7 @@ vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order) {
     *order = NULL;
     if (s->n < 3)
         return VOR_EINVAL;
-    uint32_t *o = malloc(s->n * sizeof *o);
+    uint32_t *o = vor__alloc_large(s->n, sizeof *o);
     if (!o)
         return VOR_ENOMEM;
     vor_status r = vor__insertion_order(s->xy, s->n, o);

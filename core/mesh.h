@@ -45,15 +45,6 @@ static inline int vor__mesh_is_ghost(const uint32_t *tri, uint32_t t) {
            tri[3 * t + 2] == VOR__GHOST;
 }
 
-/* malloc(count * size) (NULL on overflow or failure; free with free()) for
- * the big arrays of the mesh and the diagram: a block of 4 MiB or more is
- * advised to the kernel as a candidate for huge pages (Linux's
- * MADV_HUGEPAGE, where available; a hint, errors ignored). Arrays of a
- * million sites are visited at random; with 4 KiB pages nearly every such
- * visit misses the TLB, and touching them first costs a page fault per
- * 4 KiB. */
-void *vor__alloc_large(size_t count, size_t size);
-
 /* Allocates *m (zeroed by the caller) for n sites and builds the first
  * triangle and its three ghosts; sets up *w, the bounds included (one
  * pass over the sites). order[0..n-1] is the insertion order of the

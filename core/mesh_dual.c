@@ -548,7 +548,7 @@ static int count(dual *D) {
     if (D->small) {
         deg = D->small + n;
         memset(deg, 0, n * sizeof *deg);
-    } else if (!(deg = calloc(n ? n : 1, sizeof *deg))) {
+    } else if (!(deg = vor__calloc_large(n, sizeof *deg))) {
         return PASS_NOMEM;
     }
     size_t h = 0;

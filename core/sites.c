@@ -28,7 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "vor.h"
+#include "internal.h"
 
 /* Bits of a coordinate with -0.0 folded into +0.0. */
 static inline uint64_t coord_bits(double v) {
@@ -96,8 +96,8 @@ vor_status vor_sites_new(const double *xy, size_t n, vor_sites **out,
         cap <<= 1;
         shift--;
     }
-    uint64_t *table = calloc(cap, sizeof *table);
-    s->xy = malloc(2 * n * sizeof *s->xy);
+    uint64_t *table = vor__calloc_large(cap, sizeof *table);
+    s->xy = vor__alloc_large(2 * n, sizeof *s->xy);
     s->input_of = malloc(n * sizeof *s->input_of);
     s->site_of = malloc(n * sizeof *s->site_of);
     if (!table || !s->xy || !s->input_of || !s->site_of) {
