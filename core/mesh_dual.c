@@ -34,9 +34,13 @@
  *            the edges to larger sites (ids in site order); an edge's ends
  *            are the ids of its two triangles, whose owners are at most i
  *            and so already numbered (vid, by triangle). Each new edge id
- *            is written into its slot and into the twin slot, so every
- *            record becomes its cell. Only vid and the twin slots are
- *            visited at random, prefetched SWEEP_AHEAD sites early.
+ *            is written into its slot; a slot of an edge to a smaller
+ *            site reads the id from its twin slot, written when that
+ *            site's turn came. So every record becomes its cell. Only vid
+ *            and the twin slots are visited at random, prefetched
+ *            SWEEP_AHEAD sites early; the twins are only read, so their
+ *            lines stay clean (no write-back), which saved a few per cent of
+ *            the sweep at 10^6 sites over writing the id into them.
  *   xy       vertex coordinates with vor_circumcenter from the three sites
  *            in increasing index order, ray directions with
  *            vor_bisector_dir, outward read off the ghost side: the same
@@ -47,9 +51,9 @@
  * pointing into itself: once a vertex's fan has been walked, the adj of a
  * half-edge into it is never read again, since walks read the adj of the
  * half-edges into their own vertex); the second reads it from the adj of
- * its own half-edge. Only the smaller site of the two needs its twin's
- * position (to pass on the edge id), so only that slot is linked; the
- * other slot holds garbage until the edge id arrives.
+ * its own half-edge. Only the larger site of the two needs its twin's
+ * position (to read the edge id there), so only that slot is linked; the
+ * other slot holds garbage until its site's turn in the sweep.
  *
  * Cocircular sites. A vertex of four or more sites is one circle, which
  * the per-triangle records cannot express, so the first exactly
@@ -357,8 +361,9 @@ static int build_records(dual *D) {
          * the position of the neighbour's slot (visited earlier), or the
          * twin half-edge, whose adj then gets ours. A slot keeps its
          * twin's position only where the sweep will use it, at the
-         * smaller site (the edge's owner): so the neighbour's slot gets
-         * ours only if the neighbour is the smaller site. */
+         * larger site (which reads the edge's id there, written by the
+         * smaller one, its owner): so the neighbour's slot gets ours only
+         * if the neighbour is the larger site. */
         const uint32_t si = order[v];
         uint32_t p = cs[si];
         for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
@@ -368,7 +373,7 @@ static int build_records(dual *D) {
             rx[p] = x;
             if (wl[k] > v)
                 adj[x] = (int32_t)p;
-            else if (ws[k] < si)
+            else if (ws[k] > si)
                 rx[x] = p;
             p++;
         }
@@ -403,7 +408,7 @@ static int sweep_records(dual *D) {
             for (uint32_t p = cs[ia]; p < cs[ia + 1]; p++) {
                 uint32_t t = RT(p);
                 if (t != GHOST_T) __builtin_prefetch(vid + t, 1);
-                if (RW(p) > ia) __builtin_prefetch(rx + rx[p], 1);
+                if (RW(p) < ia) __builtin_prefetch(rx + rx[p]);
             }
         }
         const int hull = RT(hi - 1) == GHOST_T;
@@ -413,7 +418,9 @@ static int sweep_records(dual *D) {
         uint32_t b = RW(lo);
         for (uint32_t p = hi; p-- > lo;) {
             const uint32_t a = RW(p), t = RT(p);
-            if (a > si) {
+            if (a < si) /* the owner a has written the edge's id */
+                rx[p] = rx[rx[p]];
+            else {
                 ku[nu].key = a;
                 ku[nu++].slot = p - lo;
                 if (b > si && t != GHOST_T) {
@@ -463,7 +470,6 @@ static int sweep_records(dual *D) {
                 ray_e[nri] = e;
                 ray_p[nri++] = p;
             }
-            rx[rx[p]] = e;
             rx[p] = e;
         }
         ne += nu;
