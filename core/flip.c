@@ -325,7 +325,7 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
 }
 
 vor_status vor__flip_mesh_ordered(const vor_sites *s, uint32_t *order,
-                                   vor__mesh *m) {
+                                  vor__mesh *m) {
     return vor__mesh_build_ordered(s, build, order, m);
 }
 

@@ -297,22 +297,23 @@ static void sort_range(keyed *r, size_t j, size_t k) {
         insertion_sort(r, j, k);
 }
 
-/* Distribution sort of a[0..n-1] by (y, x) into tmp, for y in [y0, y1]:
- * about n / 2 buckets of equal width in y, one counting pass, one
- * scatter, then each bucket sorted (sort_range). A
- * site's bucket is floor((y - y0) * scale): subtraction and
- * multiplication by a positive number round monotonically, so buckets
- * follow y and the result is exactly sorted whatever the distribution
- * (a skewed one only makes some buckets large). Against the radix sort it
- * saves two scatters of the array, which at 10^6 sites miss the cache on
- * nearly every write. Returns tmp; a if the y range is empty or not
- * representable (the caller sorts otherwise); NULL if out of memory. */
+/* The bucket of site r (see bucket_sort). */
 static inline size_t bucket_of(const keyed *r, double y0, double scale,
                                size_t nb) {
     size_t b = (size_t)((kdouble(r->k) - y0) * scale);
     return b < nb ? b : nb - 1;
 }
 
+/* Distribution sort of a[0..n-1] by (y, x) into tmp, for y in [y0, y1]:
+ * about n / 2 buckets of equal width in y, one counting pass, one
+ * scatter, then each bucket sorted (sort_range). A site's bucket is
+ * floor((y - y0) * scale): subtraction and multiplication by a positive
+ * number round monotonically, so buckets
+ * follow y and the result is exactly sorted whatever the distribution
+ * (a skewed one only makes some buckets large). Against the radix sort it
+ * saves two scatters of the array, which at 10^6 sites miss the cache on
+ * nearly every write. Returns tmp; a if the y range is empty or not
+ * representable (the caller sorts otherwise); NULL if out of memory. */
 static keyed *bucket_sort(keyed *a, keyed *tmp, size_t n, double y0,
                           double y1) {
     const size_t nb = n / 2 > 1 ? n / 2 : 1;
@@ -1207,7 +1208,7 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 
 /* ---- Driver -------------------------------------------------------------- */
 
-/* 1 if the event at the top of the heap comes before site p. */
+/* 1 if the earliest event in the queue comes before site p. */
 static int event_first(sweep *w, const double *p) {
     const event *e = q_top(w);
     if (e->lo > p[1]) return 0;
@@ -1335,7 +1336,7 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.ehe || !w.tri || !w.adj || !w.ws)
+    if (!w.arcs || !w.red || !w.ehe || !w.ws)
         goto fail;
     w.top = NO_EVENT;
     if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX) {

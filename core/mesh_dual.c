@@ -150,7 +150,7 @@ typedef struct dual {
     size_t nv, ne, nr;
 } dual;
 
-/* Every array here is big enough to want huge pages (mesh.h). */
+/* Every array here is big enough to want huge pages (internal.h). */
 static void *xmalloc(size_t count, size_t size) {
     return vor__alloc_large(count, size);
 }
