@@ -24,6 +24,19 @@
  * digits, passes whose digit is constant skipped) puts the rounds in order
  * and each round along the curve, equal keys in index order.
  *
+ * Adapting to the data: a grid over the bounding box serves uniform
+ * points, but skewed, heavy-tailed or multi-scale sets (log-normal
+ * coordinates, a city plus one stray point at (0, 0), values spread over
+ * many decades) put most sites of a round into a few cells, where they
+ * would stay in input order and point location would walk across the
+ * whole cluster for every site. So every run of more than LEAF sites that
+ * share a cell is keyed again on a grid over its own bounding square,
+ * with the curve continuing in the cell's orientation, and sorted; runs
+ * that still share a cell are refined in turn. Each refinement resolves a
+ * factor of 2^11 in scale, so a cluster is ordered along a curve of its
+ * own at whatever scale it lives, and the work stays linear for sets that
+ * span a few dozen binary orders of magnitude per level of nesting.
+ *
  * The Hilbert key comes from a 4-state automaton (the state is the
  * rotation/reflection of the current sub-square). Its 64-entry table for
  * two bits of x and of y is derived, per call, from the one-bit rule, and
@@ -36,12 +49,16 @@
  * spans up to 2 DBL_MAX do not overflow; a span of 0 (all x equal) puts
  * every site at x = 0.
  *
- * Cost: O(n): one pass for the bounding box, one for keys and rounds, and
- * four for the sort (a histogram and three scatters); 10^6 sites take
- * about 45 ms (a third of it the keys, a third the sort, the rest the
- * kernel's zeroing of fresh pages). Memory: 16 bytes per site, freed
+ * Cost: O(n) for uniform points: one pass for the bounding box, one for
+ * keys and rounds, four for the sort (a histogram and three scatters) and
+ * one to find crowded cells; 10^6 sites take about 45 ms (a third of it
+ * the keys, a third the sort, the rest the kernel's zeroing of fresh
+ * pages). A refinement costs a pass over its run, so a site pays once per
+ * level of nesting it sits in (two or three for the skewed sets above; at
+ * most MAX_DEPTH on contrived input). Memory: 16 bytes per site, freed
  * before returning.
  */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,13 +112,13 @@ static void hilbert_table4(const uint8_t table[64], uint16_t big[1024]) {
 }
 
 /* The top 24 bits of the key of the cell (x, y) of the 2^16 x 2^16 grid
- * (its position along the curve): the curve's first 12 levels, which read
- * only the top 12 bits of x and y. The sort uses KEY_BITS <= 24 of them,
- * so the last levels are not computed. */
-static inline uint32_t hilbert_key(const uint16_t big[1024], uint32_t x,
-                                   uint32_t y) {
+ * (its position along the curve), for a curve that starts in frame state
+ * (0 for the whole square): the curve's first 12 levels, which read only
+ * the top 12 bits of x and y. The sort uses KEY_BITS <= 24 of them, so the
+ * last levels are not computed. */
+static inline uint32_t hilbert_key(const uint16_t big[1024], unsigned state,
+                                   uint32_t x, uint32_t y) {
     uint32_t key = 0;
-    unsigned state = 0;
     for (int shift = 12; shift >= 4; shift -= 4) {
         unsigned e = big[state << 8 | ((x >> shift) & 15) << 4 |
                          ((y >> shift) & 15)];
@@ -191,6 +208,97 @@ static inline uint64_t splitmix64(uint64_t *s) {
     return z ^ (z >> 31);
 }
 
+/* ---- Adapting to the data ------------------------------------------------ */
+
+/* The frame state in which the curve runs through the cell whose key's
+ * top KEY_BITS bits are in key (a curve started in state): every level's
+ * digit changes the state by a constant, independent of the state
+ * (hilbert_step: digit 0 swaps x and y, digit 3 swaps and complements,
+ * digits 1 and 2 keep the frame), so the state is the start state with
+ * the changes of all digits xored in. */
+static unsigned key_state(unsigned state, uint32_t key) {
+    for (int shift = KEY_BITS - 2; shift >= 0; shift -= 2) {
+        unsigned d = (key >> shift) & 3;
+        state ^= d == 0 ? 1u : d == 3 ? 3u : 0u;
+    }
+    return state;
+}
+
+/* Runs of at most this many sites that share a grid cell stay in index
+ * order; longer ones are refined. */
+#define LEAF 16
+/* Refinements nest at most this deep (each resolves at least a factor
+ * of 2^11 in scale, so 64 levels span 704 binary orders of magnitude,
+ * more than any set of doubles has room for in practice; the cap only
+ * bounds the work on contrived input). */
+#define MAX_DEPTH 64
+
+/* Sorts w[0..m-1] by bits INDEX_BITS.. as sort_words does, by insertion
+ * when m is small (a radix sort's fixed cost dominates there). */
+static void sort_run(uint64_t *w, uint64_t *tmp, size_t m) {
+    if (m > 96) {
+        sort_words(w, tmp, m);
+        return;
+    }
+    for (size_t i = 1; i < m; i++) {
+        uint64_t v = w[i];
+        size_t j = i;
+        for (; j > 0 && w[j - 1] > v; j--)
+            w[j] = w[j - 1];
+        w[j] = v;
+    }
+}
+
+/* Re-orders the m > LEAF sites w[0..m-1] (sort words whose index field
+ * names the sites) that fell into one cell of the grid, in frame state
+ * state: each gets a new Hilbert key over the bounding square of these
+ * sites alone, so the grid adapts to where they are, and the words are
+ * sorted by it (round field cleared: a run lies in one round). Runs that
+ * again share a cell are refined in turn, so a cluster of any size or
+ * scale is ordered along a curve of its own. Stops when a refinement no
+ * longer separates the sites (coordinates that differ only below what
+ * halving keeps), or at MAX_DEPTH. tmp has room for m words. */
+static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
+                   uint64_t *tmp, size_t m, unsigned state, int depth) {
+    const uint64_t imask = ((uint64_t)1 << INDEX_BITS) - 1;
+    double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY,
+           ymax = -INFINITY;
+    for (size_t i = 0; i < m; i++) {
+        const double *p = xy + 2 * (w[i] & imask);
+        xmin = p[0] < xmin ? p[0] : xmin;
+        xmax = p[0] > xmax ? p[0] : xmax;
+        ymin = p[1] < ymin ? p[1] : ymin;
+        ymax = p[1] > ymax ? p[1] : ymax;
+    }
+    double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
+    double half = hx > hy ? hx : hy;
+    if (!(half > 0))
+        return;
+    quantiser qx, qy;
+    quantiser_init(&qx, xmin, half);
+    quantiser_init(&qy, ymin, half);
+    for (size_t i = 0; i < m; i++) {
+        uint64_t idx = w[i] & imask;
+        uint32_t key = hilbert_key(big, state, quantise(&qx, xy[2 * idx]),
+                                   quantise(&qy, xy[2 * idx + 1]));
+        w[i] = (uint64_t)(key >> (24 - KEY_BITS)) << INDEX_BITS | idx;
+    }
+    sort_run(w, tmp, m);
+    if ((w[0] >> INDEX_BITS) == (w[m - 1] >> INDEX_BITS) ||
+        depth + 1 >= MAX_DEPTH)
+        return;
+    for (size_t i = 0; i < m;) {
+        size_t j = i + 1;
+        while (j < m && (w[j] >> INDEX_BITS) == (w[i] >> INDEX_BITS))
+            j++;
+        if (j - i > LEAF)
+            refine(xy, big, w + i, tmp, j - i,
+                   key_state(state, (uint32_t)(w[i] >> INDEX_BITS)),
+                   depth + 1);
+        i = j;
+    }
+}
+
 /* ---- The order ----------------------------------------------------------- */
 
 /* Expected size of the first round. */
@@ -244,7 +352,7 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
     int nbits = 0;
     const uint64_t last = (uint64_t)1 << (ROUND_BITS * (k - 1));
     for (size_t i = 0; i < n; i++) {
-        uint32_t key = hilbert_key(big, quantise(&qx, xy[2 * i]),
+        uint32_t key = hilbert_key(big, 0, quantise(&qx, xy[2 * i]),
                                    quantise(&qy, xy[2 * i + 1]));
         /* z trailing zeros of a random word, capped at ROUND_BITS * (k-1);
          * t = z / ROUND_BITS is t with probability (7/8) 8^-t below k-1,
@@ -267,6 +375,19 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
                (uint64_t)i;
     }
     sort_words(w, tmp, n);
+    /* cells the fixed grid over the whole set could not split: clusters,
+     * heavy tails, a far outlier */
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && (w[j] >> INDEX_BITS) == (w[i] >> INDEX_BITS))
+            j++;
+        if (j - i > LEAF) {
+            uint32_t key = (uint32_t)(w[i] >> INDEX_BITS) &
+                           (((uint32_t)1 << KEY_BITS) - 1);
+            refine(xy, big, w + i, tmp, j - i, key_state(0, key), 1);
+        }
+        i = j;
+    }
     for (size_t i = 0; i < n; i++)
         order[i] = (uint32_t)(w[i] & (((uint64_t)1 << INDEX_BITS) - 1));
     free(w);
