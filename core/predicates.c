@@ -565,6 +565,89 @@ static void incircle_term_exp(int npx, const double *px, int npy,
     }
 }
 
+/* ---- Stage 2a: incircle in double-double ---------------------------------
+ *
+ * Sites on a circle (or nearly so) make the determinant tiny against its
+ * permanent: the filter fails for nearly every call, yet the determinant
+ * is rarely exactly zero. A double-double evaluation (each value an
+ * unevaluated sum hi + lo, about 106 bits) decides those calls at a few
+ * tens of flops, against about a microsecond for the expansions below.
+ *
+ * Error bound. Let u = 2^-53. The differences are exact (two_diff). A
+ * double-double product or sum below returns its exact result on the
+ * double-double inputs times (1 + d) with |d| <= 8 u^2 (the products drop
+ * lo * lo, at most u^2 of the product, and round the cross terms, at most
+ * 2 u^2 more; the sums follow Joldes, Muller and Popescu's accurate
+ * addition, 3 u^2): generous, the proven figures are 5 and 3. The
+ * determinant is three levels deep (lift and cross, their product, the
+ * sum of three terms); to first order the errors add up to at most
+ * 4 * 3 * 8 u^2 = 96 u^2 times the permanent, the sum of the absolute
+ * values of the terms. The test requires 2^-90 = 2^16 u^2 times the
+ * permanent computed in doubles from the hi parts (which is within a few
+ * u of the true one): a margin of several hundred for the second-order
+ * terms and the roundings of the bound.
+ * Range: the caller has brought the points into stage 2's window (every
+ * input a multiple of 2^lo with 4 lo >= -1074, every |input| below 2^251),
+ * so no exact value underflows or overflows; rounded values that fall into
+ * the subnormal range lose at most 2^-1074 each, a few hundred of those
+ * at most, which the guard perm >= 2^-900 makes negligible against the
+ * bound (2^-990 at least). */
+typedef struct dd {
+    double hi, lo;
+} dd;
+
+static inline dd dd_fast(double a, double b) { /* |a| >= |b| or a == 0 */
+    double s = a + b;
+    return (dd){s, b - (s - a)};
+}
+
+static inline dd dd_sub_exact(double a, double b) {
+    dd r;
+    two_diff(a, b, &r.hi, &r.lo);
+    return r;
+}
+
+static inline dd dd_add(dd x, dd y) {
+    dd s, t;
+    two_sum(x.hi, y.hi, &s.hi, &s.lo);
+    two_sum(x.lo, y.lo, &t.hi, &t.lo);
+    s = dd_fast(s.hi, s.lo + t.hi);
+    return dd_fast(s.hi, s.lo + t.lo);
+}
+
+static inline dd dd_mul(dd x, dd y) {
+    dd p;
+    two_prod(x.hi, y.hi, &p.hi, &p.lo);
+    return dd_fast(p.hi, p.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+
+static inline dd dd_neg(dd x) { return (dd){-x.hi, -x.lo}; }
+
+/* Sign of incircle(a, b, c, d) for points in stage 2's window, or 0 when
+ * the double-double evaluation cannot prove it. */
+static int incircle_dd(const double *a, const double *b, const double *c,
+                       const double *d) {
+    dd ax = dd_sub_exact(a[0], d[0]), ay = dd_sub_exact(a[1], d[1]);
+    dd bx = dd_sub_exact(b[0], d[0]), by = dd_sub_exact(b[1], d[1]);
+    dd cx = dd_sub_exact(c[0], d[0]), cy = dd_sub_exact(c[1], d[1]);
+    dd bxcy = dd_mul(bx, cy), cxby = dd_mul(cx, by);
+    dd cxay = dd_mul(cx, ay), axcy = dd_mul(ax, cy);
+    dd axby = dd_mul(ax, by), bxay = dd_mul(bx, ay);
+    dd alift = dd_add(dd_mul(ax, ax), dd_mul(ay, ay));
+    dd blift = dd_add(dd_mul(bx, bx), dd_mul(by, by));
+    dd clift = dd_add(dd_mul(cx, cx), dd_mul(cy, cy));
+    dd det = dd_add(dd_add(dd_mul(alift, dd_add(bxcy, dd_neg(cxby))),
+                           dd_mul(blift, dd_add(cxay, dd_neg(axcy)))),
+                    dd_mul(clift, dd_add(axby, dd_neg(bxay))));
+    double perm = alift.hi * (fabs(bxcy.hi) + fabs(cxby.hi)) +
+                  blift.hi * (fabs(cxay.hi) + fabs(axcy.hi)) +
+                  clift.hi * (fabs(axby.hi) + fabs(bxay.hi));
+    if (!(perm >= 0x1p-900))
+        return 0;
+    double bound = 0x1p-90 * perm;
+    return (det.hi > bound) - (det.hi < -bound);
+}
+
 int vor__incircle_exact(const double *a, const double *b, const double *c,
                         const double *d) {
     double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]};
@@ -603,6 +686,10 @@ int vor__incircle_exact(const double *a, const double *b, const double *c,
             return (det > 0) - (det < 0);
         }
     }
+
+    int f = incircle_dd(sa, sb, sc, sd);
+    if (f)
+        return f;
 
     double ax[2], ay[2], bx[2], by[2], cx[2], cy[2];
     int nax = exp_diff(sa[0], sd[0], ax), nay = exp_diff(sa[1], sd[1], ay);

@@ -336,6 +336,41 @@ static void test_random_scales(void **state) {
     printf("# random scales: %ld checks\n", n_checked - before);
 }
 
+/* Nearly cocircular to second order: a, b, c on the unit circle (cos and
+ * sin rounded), d pushed off a fourth point of the circle along the
+ * tangent by 2^-k, so that its distance from the circle is about 2^-2k
+ * (plus the rounding of d): determinants from about u down to u^2 of
+ * their permanent, the range where a double-double evaluation must hand
+ * over to the exact one. Also shifted by a large offset (inexact differences). */
+static void test_incircle_tangent(void **state) {
+    (void)state;
+    long before = n_checked;
+    int signs[3] = {0, 0, 0};
+    for (int k = 0; k < 30000; k++) {
+        double p[4][2];
+        for (int i = 0; i < 4; i++) {
+            double t = rng_unit() * 6.283185307179586;
+            p[i][0] = cos(t);
+            p[i][1] = sin(t);
+        }
+        int e = 20 + rng_int(33); /* 2^-20 .. 2^-52: less is rounded away */
+        double h = ldexp(rng_sym(), -e);
+        double tx = -p[3][1], ty = p[3][0];
+        p[3][0] += h * tx;
+        p[3][1] += h * ty;
+        if (k % 3 == 1)
+            for (int i = 0; i < 4; i++) {
+                p[i][0] += 3.0;
+                p[i][1] -= 5.0;
+            }
+        int sg = check_incircle(p[0], p[1], p[2], p[3]);
+        signs[sg + 1]++;
+    }
+    printf("# tangent: %ld checks, %d outside, %d on, %d inside\n",
+           n_checked - before, signs[0], signs[1], signs[2]);
+    assert_true(signs[0] > 100 && signs[2] > 100);
+}
+
 /* ---- (d) mixed magnitudes in one call ------------------------------------ */
 
 static void test_mixed_magnitudes(void **state) {
@@ -819,6 +854,7 @@ int main(void) {
         cmocka_unit_test(test_orient_near_collinear_grid),
         cmocka_unit_test(test_incircle_near_cocircular),
         cmocka_unit_test(test_random_scales),
+        cmocka_unit_test(test_incircle_tangent),
         cmocka_unit_test(test_mixed_magnitudes),
         cmocka_unit_test(test_wide_dynamic_range),
         cmocka_unit_test(test_exact_constructions),
