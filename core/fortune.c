@@ -53,9 +53,12 @@
  *     comes before a site. Each event carries a floating-point interval
  *     proven to contain its y; only when intervals overlap is the order
  *     decided otherwise: by cheap proofs of equal tops (circles computed
- *     exactly in doubles, horizontal translates), by double-double bounds,
- *     and finally by exact integer arithmetic (a site against a square
- *     root, or two sums of a rational and a square root). The queue is
+ *     exactly in doubles, horizontal translates), by double-double bounds
+ *     (computed once per event), by 64- and 128-bit integers on small
+ *     lattices (pixels, grids: equal radii or centres at equal height
+ *     there make equal tops common), and finally by exact integer
+ *     arithmetic on limb arrays (a site against a square root, or two sums
+ *     of a rational and a square root). The queue is
  *     ordered by this exact comparison (the buckets only narrow down where
  *     to look), so its earliest event is always the next one;
  *   - cocircular sites produce several triangles with one circumcircle
@@ -882,7 +885,9 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
         int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
         if (c != 0) return c < 0;
     }
-    int c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
+    int c;
+    if (!vor__fortune_circle_cmp_small(a1, b1, c1, a2, b2, c2, &c))
+        c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
     return c != 0 ? c < 0 : r1 < r2;
 }
 
@@ -1208,14 +1213,25 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 
 /* ---- Driver -------------------------------------------------------------- */
 
-/* 1 if the earliest event in the queue comes before site p. */
+/* 1 if the earliest event in the queue comes before site p. Where the
+ * float interval cannot tell, the event's double-double bounds (computed
+ * once per event: the same event often meets every site of a row), then
+ * integers for small lattices, then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
     const event *e = q_top(w);
     if (e->lo > p[1]) return 0;
     if (e->hi < p[1]) return 1;
+    const double *d;
+    if (event_dd(w, e->rec, &d)) {
+        int c = vor__fortune_dd_cmp(p[1], 0, 0, d[0], d[1], d[2]);
+        if (c != 0) return c > 0;
+    }
     const uint32_t *t = w->recs[e->rec].s;
-    return !vor__fortune_site_first_exact(p, site_xy(w, t[0]), site_xy(w, t[1]),
-                                          site_xy(w, t[2]));
+    const double *a = site_xy(w, t[0]), *b = site_xy(w, t[1]),
+                 *c = site_xy(w, t[2]);
+    int f = vor__fortune_site_first_small(p, a, b, c);
+    if (f < 0) f = vor__fortune_site_first_exact(p, a, b, c);
+    return !f;
 }
 
 /* Runs the sweep over all sites; *first receives the leftmost arc (site

@@ -158,4 +158,21 @@ int vor__fortune_circle_cmp_exact(const double *a1, const double *b1,
                                   const double *b2, const double *c2,
                                   vor__fortune_ws *ws);
 
+/* The same decisions for small lattices, in 64- and 128-bit integers:
+ * the differences among the points must be exact in doubles and, in
+ * units of their lowest set bit, below 2^11 within a triple (and 2^30
+ * from a to the site, 2^40 between the two triples' first points).
+ * vor__fortune_site_first_small returns what vor__fortune_site_first_exact
+ * would, or -1 when the input is not such a lattice. For two circle
+ * events, 1 with *res what vor__fortune_circle_cmp_exact would return,
+ * or 0 when the input is not such a lattice or the two tops would need
+ * square roots to compare (their centres' y and their radii ordered
+ * oppositely). */
+int vor__fortune_site_first_small(const double *s, const double *a,
+                                  const double *b, const double *c);
+int vor__fortune_circle_cmp_small(const double *a1, const double *b1,
+                                  const double *c1, const double *a2,
+                                  const double *b2, const double *c2,
+                                  int *res);
+
 #endif /* VOR_FORTUNE_PREDICATES_H */

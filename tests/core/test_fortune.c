@@ -350,14 +350,57 @@ static void test_site_first(void **state) {
     uint64_t seed = 303;
     print_message("site_first: seed %llu\n", (unsigned long long)seed);
     vt_rng r = {seed};
+    int small = 0;
     for (int it = 0; it < 20000; it++) {
         int kind = it % KINDS;
         double t[3][2], s[2];
         if (!random_triple(&r, kind, t)) continue;
         random_point(&r, kind, s);
+        int want = q_site_first(s, t[0], t[1], t[2]);
         assert_int_equal(vor__fortune_site_first_exact(s, t[0], t[1], t[2]),
-                         q_site_first(s, t[0], t[1], t[2]));
+                         want);
+        int sm = vor__fortune_site_first_small(s, t[0], t[1], t[2]);
+        if (sm >= 0) {
+            small++;
+            assert_int_equal(sm, want);
+        }
     }
+    /* lattice triples anywhere in a large window, sites at and near the
+     * tops of their circles (the small integer path's home) */
+    for (int it = 0; it < 20000; it++) {
+        double t[3][2], s[2];
+        long ox = (long)(vt_next(&r) % 4000) - 2000,
+             oy = (long)(vt_next(&r) % 4000) - 2000;
+        for (int i = 0; i < 3; i++) {
+            t[i][0] = (double)(ox + (long)(vt_next(&r) % 41) - 20);
+            t[i][1] = (double)(oy + (long)(vt_next(&r) % 41) - 20);
+        }
+        int o = vor_orient2d(t[0], t[1], t[2]);
+        if (o == 0) continue;
+        if (o < 0) {
+            double sw[2] = {t[1][0], t[1][1]};
+            memcpy(t[1], t[2], sizeof sw);
+            memcpy(t[2], sw, sizeof sw);
+        }
+        s[0] = (double)(ox + (long)(vt_next(&r) % 61) - 30);
+        s[1] = (double)(oy + (long)(vt_next(&r) % 61) - 30);
+        if (it % 3 == 0) { /* on the circle's top row, if it has one */
+            mpq_t X, Y, R2;
+            mpq_inits(X, Y, R2, NULL);
+            q_circle(t[0], t[1], t[2], X, Y, R2);
+            s[1] = floor(mpq_get_d(Y) + sqrt(mpq_get_d(R2)) + 0.5);
+            mpq_clears(X, Y, R2, NULL);
+        }
+        int want = q_site_first(s, t[0], t[1], t[2]);
+        int sm = vor__fortune_site_first_small(s, t[0], t[1], t[2]);
+        assert_true(sm >= 0);
+        small++;
+        assert_int_equal(sm, want);
+        assert_int_equal(vor__fortune_site_first_exact(s, t[0], t[1], t[2]),
+                         want);
+    }
+    print_message("site_first: %d decided by small integers\n", small);
+    assert_true(small > 20000);
     /* sites exactly at the top of integer circles, and beside it */
     const double a[2] = {-4, -3}, b[2] = {0, -5}, c[2] = {4, -3};
     const double top[2] = {0, 5}, l[2] = {-1, 5}, rr[2] = {1, 5};
@@ -379,7 +422,7 @@ static void test_circle_cmp(void **state) {
     vt_rng r = {seed};
     vor__fortune_ws *ws = vor__fortune_ws_new();
     assert_non_null(ws);
-    int equal = 0, dd_decided = 0;
+    int equal = 0, dd_decided = 0, small = 0;
     for (int it = 0; it < 20000; it++) {
         int kind = it % KINDS;
         double t1[3][2], t2[3][2];
@@ -402,6 +445,12 @@ static void test_circle_cmp(void **state) {
         assert_int_equal(vor__fortune_circle_cmp_exact(t1[0], t1[1], t1[2],
                                                        t2[0], t2[1], t2[2], ws),
                          want);
+        int res;
+        if (vor__fortune_circle_cmp_small(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                          t2[2], &res)) {
+            small++;
+            assert_int_equal(res, want);
+        }
         double h1, l1, r1, h2, l2, r2;
         if (in_safe_range(t1[0]) && in_safe_range(t1[1]) &&
             in_safe_range(t1[2]) && in_safe_range(t2[0]) &&
@@ -440,7 +489,54 @@ static void test_circle_cmp(void **state) {
             assert_int_equal(want,
                              t1[0][0] < t2[0][0] ? -1 : t1[0][0] > t2[0][0]);
     }
+    /* lattice triangles and their copies turned by quarter turns and
+     * moved by a whole vector, one row up or down at most: equal radii,
+     * tops equal or one row apart, centres level or not (the small
+     * integer path must decide or decline each correctly) */
+    int declined = 0;
+    for (int it = 0; it < 20000; it++) {
+        double t1[3][2], t2[3][2];
+        long ox = (long)(vt_next(&r) % 2000) - 1000,
+             oy = (long)(vt_next(&r) % 2000) - 1000;
+        for (int i = 0; i < 3; i++) {
+            t1[i][0] = (double)(ox + (long)(vt_next(&r) % 21) - 10);
+            t1[i][1] = (double)(oy + (long)(vt_next(&r) % 21) - 10);
+        }
+        int o = vor_orient2d(t1[0], t1[1], t1[2]);
+        if (o == 0) continue;
+        if (o < 0) {
+            double sw[2] = {t1[1][0], t1[1][1]};
+            memcpy(t1[1], t1[2], sizeof sw);
+            memcpy(t1[2], sw, sizeof sw);
+        }
+        int turns = (int)(vt_next(&r) % 4);
+        long dx = (long)(vt_next(&r) % 101) - 50,
+             dy = (long)(vt_next(&r) % 3) - 1;
+        for (int i = 0; i < 3; i++) {
+            double x = t1[i][0] - (double)ox, y = t1[i][1] - (double)oy;
+            for (int k = 0; k < turns; k++) {
+                double tt = x;
+                x = -y;
+                y = tt;
+            }
+            t2[i][0] = x + (double)(ox + dx);
+            t2[i][1] = y + (double)(oy + dy);
+        }
+        const double *e1[3] = {t1[0], t1[1], t1[2]},
+                     *e2[3] = {t2[0], t2[1], t2[2]};
+        int want = q_event_cmp(e1, e2), res;
+        if (vor__fortune_circle_cmp_small(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                          t2[2], &res)) {
+            small++;
+            assert_int_equal(res, want);
+        } else {
+            declined++;
+        }
+    }
+    print_message("circle_cmp: %d decided by small integers, %d declined\n",
+                  small, declined);
     vor__fortune_ws_free(ws);
+    assert_true(small > 15000);
     assert_true(equal > 100);
     assert_true(dd_decided > 1000);
     /* small-integer circles are exact in doubles */
