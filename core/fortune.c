@@ -11,10 +11,11 @@
  * neighbours, which is a Voronoi vertex.
  *
  * Representation.
- *   - Sites: a private copy of the coordinates sorted by (y, x) (radix sort
- *     on the top bits of y, then the runs they leave), rescaled by a power of
- *     two when that is exact so that the filters of fortune_predicates.h
- *     apply without range tests; orig[] maps back to site indices.
+ *   - Sites: a private copy of the coordinates sorted by (y, x) (a
+ *     distribution sort by an estimate of each y's rank that adapts to the
+ *     data's scale, see "Sweep rank of a y"), rescaled by a power of two
+ *     when that is exact so that the filters of fortune_predicates.h apply
+ *     without range tests; orig[] maps back to site indices.
  *   - Beach line: arcs in a flat pool (index 0 is the nil sentinel, freed
  *     arcs are reused), linked as a red-black tree in beach-line order and as
  *     a doubly linked list. A breakpoint is not stored: an arc's site and its
@@ -27,8 +28,9 @@
  *     position and what is known for tie-breaking. An event is replaced in
  *     the queue as soon as its triple changes, so no stale event is ever
  *     popped. (Lazy deletion was measured: the queue grows eightfold with
- *     cancelled far-future events.) The queue is a set of buckets by y
- *     while sites remain, O(1) per operation for sites spread in y, and a
+ *     cancelled far-future events.) The queue is a set of buckets by the
+ *     estimated rank of an event's y among the sites' while sites remain,
+ *     O(1) per operation whatever the sites' distribution in y, and a
  *     binary heap when buckets crowd, after the last site and for small
  *     inputs (see "Event queue"). Sites are not in the queue: the next
  *     site in sorted order is compared with the earliest event.
@@ -76,10 +78,11 @@
  * sorted copy (20 bytes per site), the mesh (2n - 2 triangles with ghosts,
  * 48 bytes per site, in which the sort runs before the sweep), edge
  * records (at most 3n, 4 bytes each, few of them ever touched), the
- * buckets (4 bytes per site, while sites remain), the beach line and queue
- * (O(sqrt n) arcs for typical input, at most 2n). The edge records, the
- * beach line and the queue are freed before the conversion, which owns the
- * rest.
+ * buckets (4 bytes per site, while sites remain), the rank map (at most
+ * 2^12 bins and as many again for crowded ones, about 40 KiB), the beach
+ * line and queue (O(sqrt n) arcs for typical input, at most 2n). The edge
+ * records, the map, the beach line and the queue are freed before the
+ * conversion, which owns the rest.
  */
 #include <assert.h>
 #include <float.h>
@@ -121,6 +124,25 @@ typedef struct evrec {
     uint32_t s[3]; /* its triple, left to right (sorted site indices) */
 } evrec;
 
+/* Estimated sweep rank of a y (see "Sweep rank of a y"): a table of
+ * bins of equal key width, each bin's first rank; a crowded bin has a
+ * table of its own. */
+typedef struct ymap_table {
+    uint64_t base;   /* smallest key in the table's range */
+    uint64_t span;   /* largest key minus base */
+    int shift;       /* bin of key k: (k - base) >> shift */
+    uint32_t nbins;
+    uint32_t *start; /* nbins + 1: rank of each bin's first site */
+} ymap_table;
+
+typedef struct ymap {
+    ymap_table top;
+    uint32_t *sub;     /* top.nbins: index into inner[], or UINT32_MAX */
+    ymap_table *inner; /* tables of the crowded bins */
+    uint32_t n_inner;
+    void *block;       /* the one allocation behind all of it */
+} ymap;
+
 typedef struct sweep {
     size_t n;
     double *xy;     /* 2n, sorted by (y, x), rescaled */
@@ -142,7 +164,7 @@ typedef struct sweep {
     uint32_t n_buckets;
     uint32_t cur;      /* no live event in a bucket below cur */
     uint32_t top;      /* the earliest event's record; NO_EVENT: unknown */
-    double y0, bscale; /* bucket of lo: (lo - y0) * bscale, clamped */
+    ymap ymap;         /* bucket of lo: its rank estimate (see ymap) */
     event *ekey;       /* per record: its event (buckets only) */
     uint32_t *blink;   /* per record: previous and next in its bucket */
     size_t scanned, budget; /* buckets and entries read; the limit */
@@ -207,47 +229,6 @@ static inline int cmp_keyed(const keyed *a, const keyed *b) {
     return (a->x > b->x) - (a->x < b->x);
 }
 
-#define RADIX_BITS 11
-#define RADIX_SIZE (1u << RADIX_BITS)
-#define RADIX_PASSES 3 /* the top 33 bits of the key; runs fixed after */
-
-/* Stable LSD radix sort of a[0..n-1] by the top 3 * RADIX_BITS bits of k;
- * tmp is scratch of the same size. Returns the array holding the result (a
- * or tmp), NULL if out of memory. Passes whose digit is the same for all
- * keys are skipped. */
-static keyed *radix_sort(keyed *a, keyed *tmp, size_t n) {
-    const int base = 64 - RADIX_PASSES * RADIX_BITS;
-    uint32_t *cnt = calloc((size_t)RADIX_PASSES * RADIX_SIZE, sizeof *cnt);
-    if (!cnt) return NULL;
-    for (size_t j = 0; j < n; j++)
-        for (int d = 0; d < RADIX_PASSES; d++)
-            cnt[d * RADIX_SIZE +
-                ((a[j].k >> (base + d * RADIX_BITS)) & (RADIX_SIZE - 1))]++;
-    keyed *src = a, *dst = tmp;
-    for (int d = 0; d < RADIX_PASSES; d++) {
-        uint32_t *c = cnt + d * RADIX_SIZE;
-        int trivial = 0;
-        uint32_t sum = 0;
-        for (uint32_t b = 0; b < RADIX_SIZE; b++) {
-            if (c[b] == n) trivial = 1;
-            uint32_t t = c[b];
-            c[b] = sum;
-            sum += t;
-        }
-        if (trivial) continue;
-        for (size_t j = 0; j < n; j++) {
-            uint32_t b = (uint32_t)(src[j].k >> (base + d * RADIX_BITS)) &
-                         (RADIX_SIZE - 1);
-            dst[c[b]++] = src[j];
-        }
-        keyed *t = src;
-        src = dst;
-        dst = t;
-    }
-    free(cnt);
-    return src;
-}
-
 #define SMALL_SORT 256 /* below this, sort the whole array at once */
 #define TINY_SORT 16   /* at most this, insertion sort */
 
@@ -291,43 +272,208 @@ static void heap_sort(keyed *r, size_t n) {
     }
 }
 
-/* Sorts r[j..k-1] by (y, x): insertion for short ranges, heapsort for
- * long ones. */
+static inline void swap_keyed(keyed *a, keyed *b) {
+    keyed t = *a;
+    *a = *b;
+    *b = t;
+}
+
+/* Sorts r[j..k-1] by (y, x): insertion for short ranges; otherwise
+ * quicksort (median of three, the smaller part first so that the stack
+ * stays logarithmic), falling back to heapsort for a part when the
+ * partitions keep coming out lopsided (introsort): O(m log m) at worst.
+ * A bucket of a row of sites at one y (integer input) can hold thousands;
+ * heapsort alone strides through memory there. */
 static void sort_range(keyed *r, size_t j, size_t k) {
-    if (k - j > TINY_SORT)
-        heap_sort(r + j, k - j);
-    else
-        insertion_sort(r, j, k);
+    size_t depth = 0;
+    for (size_t m = k - j; m > 1; m >>= 1) depth += 2;
+    while (k - j > TINY_SORT) {
+        if (depth-- == 0) {
+            heap_sort(r + j, k - j);
+            return;
+        }
+        size_t mid = j + (k - j) / 2;
+        if (cmp_keyed(&r[mid], &r[j]) < 0) swap_keyed(&r[mid], &r[j]);
+        if (cmp_keyed(&r[k - 1], &r[mid]) < 0) {
+            swap_keyed(&r[k - 1], &r[mid]);
+            if (cmp_keyed(&r[mid], &r[j]) < 0) swap_keyed(&r[mid], &r[j]);
+        }
+        keyed piv = r[mid];
+        size_t lo = j, hi = k - 1; /* r[j] <= piv <= r[k - 1] */
+        for (;;) {
+            do lo++; while (cmp_keyed(&r[lo], &piv) < 0);
+            do hi--; while (cmp_keyed(&piv, &r[hi]) < 0);
+            if (lo >= hi) break;
+            swap_keyed(&r[lo], &r[hi]);
+        }
+        /* r[j..hi] <= piv <= r[hi+1..k-1] */
+        if (hi + 1 - j < k - hi - 1) {
+            sort_range(r, j, hi + 1);
+            j = hi + 1;
+        } else {
+            sort_range(r, hi + 1, k);
+            k = hi + 1;
+        }
+    }
+    insertion_sort(r, j, k);
 }
 
-/* The bucket of site r (see bucket_sort). */
-static inline size_t bucket_of(const keyed *r, double y0, double scale,
-                               size_t nb) {
-    size_t b = (size_t)((kdouble(r->k) - y0) * scale);
-    return b < nb ? b : nb - 1;
+/* ---- Sweep rank of a y --------------------------------------------------
+ *
+ * The site sort and the event queue both bucket by y, and both want
+ * buckets of about equal population whatever the distribution: log-normal
+ * or Cauchy coordinates, a dense city with one stray point, values over
+ * many decades. Equal widths over the y range put nearly all of such a set
+ * into a few buckets. So y is mapped to an estimate of its rank among the
+ * sites' y: the sites' order-preserving keys (dkey) are counted into
+ * 2^YMAP_BITS bins of equal key width -- equal steps of the mantissa
+ * within each power of two, so the bins follow the data's scale -- and a
+ * y's rank is its bin's first rank plus its place within the bin,
+ * interpolated linearly. The map is monotone (a larger key never maps
+ * lower), which is all that sorting and the queue need for exactness;
+ * evenness only makes them fast. A cluster narrower than a bin still lands
+ * in one bucket; the queue then falls back to its heap. */
+#define YMAP_BITS 12
+#define YMAP_FRAC 24 /* bits of the place within a bin */
+#define YMAP_PER_BIN 16 /* sites per bin aimed at */
+
+/* Rank estimate of key k within table t, clamped to its range. */
+static inline uint32_t table_rank(const ymap_table *t, uint64_t k,
+                                  uint32_t *bin) {
+    uint64_t off = k > t->base ? k - t->base : 0;
+    if (off > t->span) off = t->span;
+    uint32_t b = (uint32_t)(off >> t->shift);
+    uint64_t low = off & ((UINT64_C(1) << t->shift) - 1);
+    uint64_t frac = t->shift > YMAP_FRAC ? low >> (t->shift - YMAP_FRAC)
+                                         : low << (YMAP_FRAC - t->shift);
+    uint32_t first = t->start[b], cnt = t->start[b + 1] - first;
+    *bin = b;
+    return first + (uint32_t)((frac * cnt) >> YMAP_FRAC);
 }
 
-/* Distribution sort of a[0..n-1] by (y, x) into tmp, for y in [y0, y1]:
- * about n / 2 buckets of equal width in y, one counting pass, one
- * scatter, then each bucket sorted (sort_range). A site's bucket is
- * floor((y - y0) * scale): subtraction and multiplication by a positive
- * number round monotonically, so buckets
- * follow y and the result is exactly sorted whatever the distribution
- * (a skewed one only makes some buckets large). Against the radix sort it
- * saves two scatters of the array, which at 10^6 sites miss the cache on
- * nearly every write. Returns tmp; a if the y range is empty or not
- * representable (the caller sorts otherwise); NULL if out of memory. */
-static keyed *bucket_sort(keyed *a, keyed *tmp, size_t n, double y0,
-                          double y1) {
-    const size_t nb = n / 2 > 1 ? n / 2 : 1;
-    const double range = y1 - y0, scale = (double)nb / range;
-    if (!(range > 0 && range < INFINITY && scale < INFINITY)) return a;
+/* Rank estimate in [0, n - 1] of the key k (n >= 1 sites); keys beyond
+ * the sites' range are clamped to it. */
+static inline uint32_t ymap_rank(const ymap *m, uint64_t k) {
+    uint32_t b, r = table_rank(&m->top, k, &b);
+    uint32_t i = m->sub[b];
+    return i == UINT32_MAX ? r : table_rank(&m->inner[i], k, &b);
+}
+
+/* Sets up t for keys in [kmin, kmax] with about `want` bins (a power of
+ * two at most 2^YMAP_BITS); start is left to the caller. */
+static uint32_t table_shape(ymap_table *t, uint64_t kmin, uint64_t kmax,
+                            size_t want) {
+    int bits = 0;
+    while (bits < YMAP_BITS && ((size_t)1 << bits) < want) bits++;
+    t->base = kmin;
+    t->span = kmax - kmin;
+    t->shift = 0;
+    while ((t->span >> t->shift) >= ((uint64_t)1 << bits)) t->shift++;
+    t->nbins = (uint32_t)(t->span >> t->shift) + 1;
+    return t->nbins;
+}
+
+/* Builds m over the keys of a[0..n-1] (n >= 1), whose smallest and
+ * largest are kmin and kmax: the top table, then a table for each bin
+ * that holds more than four times its share and more than 64 sites,
+ * over the keys that bin actually holds (one stray point far from a
+ * dense city puts the whole city into one top bin). Three passes over
+ * the keys. VOR_ENOMEM on failure (m->block NULL). */
+static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
+                             uint64_t kmin, uint64_t kmax) {
+    memset(m, 0, sizeof *m);
+    ymap_table *t = &m->top;
+    uint32_t nb = table_shape(t, kmin, kmax, n / YMAP_PER_BIN);
+    /* top counts and, per bin, its smallest and largest key */
+    uint32_t *cnt = calloc(nb + 1, sizeof *cnt);
+    uint64_t *bmin = malloc(2 * (size_t)nb * sizeof *bmin);
+    if (!cnt || !bmin) {
+        free(cnt);
+        free(bmin);
+        return VOR_ENOMEM;
+    }
+    for (uint32_t b = 0; b < nb; b++) {
+        bmin[2 * b] = UINT64_MAX;
+        bmin[2 * b + 1] = 0;
+    }
+    for (size_t j = 0; j < n; j++) {
+        uint64_t k = a[j].k;
+        uint32_t b = (uint32_t)((k - kmin) >> t->shift);
+        cnt[b + 1]++;
+        if (k < bmin[2 * b]) bmin[2 * b] = k;
+        if (k > bmin[2 * b + 1]) bmin[2 * b + 1] = k;
+    }
+    size_t crowd = 4 * (n / nb + 1), n_inner = 0, inner_bins = 0;
+    ymap_table tmp;
+    for (uint32_t b = 0; b < nb; b++)
+        if (cnt[b + 1] > crowd && cnt[b + 1] > 64) {
+            n_inner++;
+            inner_bins += table_shape(&tmp, bmin[2 * b], bmin[2 * b + 1],
+                                      cnt[b + 1] / YMAP_PER_BIN) + 1;
+        }
+    /* one block: top starts, sub, inner tables, inner starts */
+    size_t words = (size_t)nb + 1 + nb + inner_bins;
+    m->block = malloc(n_inner * sizeof(ymap_table) + words * sizeof(uint32_t));
+    if (!m->block) {
+        free(cnt);
+        free(bmin);
+        return VOR_ENOMEM;
+    }
+    m->inner = m->block;
+    t->start = (uint32_t *)(void *)(m->inner + n_inner);
+    m->sub = t->start + nb + 1;
+    uint32_t *istart = m->sub + nb;
+    t->start[0] = 0;
+    for (uint32_t b = 0; b < nb; b++) t->start[b + 1] = t->start[b] + cnt[b + 1];
+    for (uint32_t b = 0; b < nb; b++) {
+        m->sub[b] = UINT32_MAX;
+        if (!(cnt[b + 1] > crowd && cnt[b + 1] > 64)) continue;
+        ymap_table *in = &m->inner[m->n_inner];
+        uint32_t k = table_shape(in, bmin[2 * b], bmin[2 * b + 1],
+                                 cnt[b + 1] / YMAP_PER_BIN);
+        in->start = istart;
+        memset(istart, 0, ((size_t)k + 1) * sizeof *istart);
+        istart += k + 1;
+        m->sub[b] = m->n_inner++;
+    }
+    /* inner counts, prefix-summed from their bin's first rank */
+    if (m->n_inner) {
+        for (size_t j = 0; j < n; j++) {
+            uint64_t k = a[j].k;
+            uint32_t i = m->sub[(k - kmin) >> t->shift];
+            if (i == UINT32_MAX) continue;
+            ymap_table *in = &m->inner[i];
+            in->start[((k - in->base) >> in->shift) + 1]++;
+        }
+        for (uint32_t b = 0; b < nb; b++) {
+            uint32_t i = m->sub[b];
+            if (i == UINT32_MAX) continue;
+            ymap_table *in = &m->inner[i];
+            in->start[0] = t->start[b];
+            for (uint32_t c = 1; c <= in->nbins; c++)
+                in->start[c] += in->start[c - 1];
+        }
+    }
+    free(cnt);
+    free(bmin);
+    return VOR_OK;
+}
+
+/* Distribution sort of a[0..n-1] by (y, x) into tmp: buckets of two
+ * ranks' width under the map (about n / 2 of them), one counting pass,
+ * one scatter, then each bucket sorted (sort_range). The map is monotone,
+ * so the result is exactly sorted whatever the distribution. Against a
+ * radix sort it saves two scatters of the array, which at 10^6 sites miss
+ * the cache on nearly every write. Returns tmp, or NULL if out of
+ * memory. */
+static keyed *bucket_sort(const ymap *m, keyed *a, keyed *tmp, size_t n) {
+    const size_t nb = (n + 1) / 2;
     uint32_t *c = calloc(nb + 1, sizeof *c);
     if (!c) return NULL;
-    for (size_t j = 0; j < n; j++) c[bucket_of(&a[j], y0, scale, nb) + 1]++;
+    for (size_t j = 0; j < n; j++) c[(ymap_rank(m, a[j].k) >> 1) + 1]++;
     for (size_t b = 1; b <= nb; b++) c[b] += c[b - 1]; /* starts */
     for (size_t j = 0; j < n; j++)
-        tmp[c[bucket_of(&a[j], y0, scale, nb)]++] = a[j];
+        tmp[c[ymap_rank(m, a[j].k) >> 1]++] = a[j];
     /* now c[b] is the end of bucket b */
     for (size_t b = 0, start = 0; b < nb; start = c[b++])
         sort_range(tmp, start, c[b]);
@@ -335,27 +481,13 @@ static keyed *bucket_sort(keyed *a, keyed *tmp, size_t n, double y0,
     return tmp;
 }
 
-/* Sorts the runs of r[0..n-1] that share the radix sort's key bits by the
- * full (y, x) (sort_range). */
-static void sort_runs(keyed *r, size_t n) {
-    const int shift = 64 - RADIX_PASSES * RADIX_BITS;
-    for (size_t j = 0; j < n;) {
-        size_t k = j + 1;
-        while (k < n && (r[k].k >> shift) == (r[j].k >> shift)) k++;
-        sort_range(r, j, k);
-        j = k;
-    }
-}
-
 /* Fills w->xy and w->orig: the sites sorted by (y, x), multiplied by
- * `scale` (a power of two for which that is exact). Fewer than SMALL_SORT
- * sites: sort_range on the whole. Otherwise bucket_sort, or
- * where the y range rules it out (all y equal, or a range beyond the
- * doubles) a radix sort on the top bits of y, then runs of equal top bits
- * (and of equal y) sorted by (y, x). The sort's two arrays of n keyed sites
- * are the mesh arrays w->tri and w->adj, not yet used (each holds at least
- * n keyed sites, see vor__fortune), so that their pages are touched once:
- * fresh pages cost a fault and zeroing each. */
+ * `scale` (a power of two for which that is exact), and w->ymap over
+ * their y. Fewer than SMALL_SORT sites: sort_range on the whole; otherwise
+ * bucket_sort. The sort's two arrays of n keyed sites are the mesh arrays
+ * w->tri and w->adj, not yet used (each holds at least n keyed sites, see
+ * vor__fortune), so that their pages are touched once: fresh pages cost a
+ * fault and zeroing each. */
 static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     size_t n = s->n;
     keyed *a = (keyed *)(void *)w->tri, *tmp = (keyed *)(void *)w->adj;
@@ -363,33 +495,30 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     w->orig = malloc(n * sizeof *w->orig);
     vor_status st = VOR_ENOMEM;
     if (!w->xy || !w->orig) goto done;
-    double y0 = s->xy[1], y1 = s->xy[1];
+    uint64_t kmin = UINT64_MAX, kmax = 0;
     for (size_t j = 0; j < n; j++) {
-        double y = s->xy[2 * j + 1];
-        a[j].k = dkey(y);
-        a[j].x = s->xy[2 * j];
+        uint64_t k = dkey(s->xy[2 * j + 1] * scale);
+        a[j].k = k;
+        a[j].x = s->xy[2 * j] * scale;
         a[j].i = (uint32_t)j;
-        y0 = y < y0 ? y : y0;
-        y1 = y > y1 ? y : y1;
+        kmin = k < kmin ? k : kmin;
+        kmax = k > kmax ? k : kmax;
     }
+    if ((st = ymap_build(&w->ymap, a, n, kmin, kmax)) != VOR_OK) goto done;
+    st = VOR_ENOMEM;
     keyed *r;
     if (n < SMALL_SORT) {
-        /* Zeroing and scanning the radix sort's count tables costs more
-         * than sorting a few hundred keys outright (about 6 us of the
-         * 30 us a 10-point request costs the service) */
+        /* Zeroing and scanning the count tables costs more than sorting a
+         * few hundred keys outright (about 6 us of the 30 us a 10-point
+         * request costs the service) */
         sort_range(a, 0, n);
         r = a;
-    } else {
-        r = bucket_sort(a, tmp, n, y0, y1);
-        if (r == a) { /* degenerate y range */
-            r = radix_sort(a, tmp, n);
-            if (r) sort_runs(r, n);
-        }
-        if (!r) goto done;
+    } else if (!(r = bucket_sort(&w->ymap, a, tmp, n))) {
+        goto done;
     }
     for (size_t j = 0; j < n; j++) {
-        w->xy[2 * j] = r[j].x * scale;
-        w->xy[2 * j + 1] = kdouble(r[j].k) * scale;
+        w->xy[2 * j] = r[j].x;
+        w->xy[2 * j + 1] = kdouble(r[j].k);
         w->orig[j] = r[j].i;
     }
     st = VOR_OK;
@@ -958,10 +1087,10 @@ static void heap_remove(sweep *w, uint32_t pos) {
 /* ---- Event queue ---------------------------------------------------------
  *
  * While sites remain, the events are kept in buckets by the low end of
- * their interval: bucket k holds the events whose lo maps to k under
- * (lo - y0) * bscale (truncated, clamped to the buckets), a monotone map;
- * the buckets split the sites' y range evenly, one per site, so that for
- * sites spread in y a bucket holds one or two events. The earliest event
+ * their interval: bucket k holds the events whose lo has the estimated
+ * sweep rank k (ymap_rank, clamped to the sites' range), a monotone map;
+ * one bucket per site, so that a bucket holds one or two events however
+ * the sites are spread in y. The earliest event
  * lies in the first non-empty bucket, k, or in a later bucket no further
  * than that of its own hi (an earlier event's lo is below the earliest's
  * hi), so finding it reads those few buckets with the exact ev_before().
@@ -970,7 +1099,8 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * removed, the largest single cost of the sweep (a sixth of Fortune's
  * time at 10^6 uniform sites).
  *
- * Buckets fail when the events crowd into few of them (clustered sites);
+ * Buckets fail when the events crowd into few of them (clusters narrower
+ * than a bin of the map, many events with the same top on a lattice);
  * the entries read are counted, and beyond BUCKET_READS per event on
  * average the events move into the heap, O(log n) per operation whatever
  * the input. They also move there after the last site, when buckets
@@ -980,9 +1110,8 @@ static void heap_remove(sweep *w, uint32_t pos) {
 #define BUCKET_READS 16
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
-    double t = (lo - w->y0) * w->bscale;
-    return t >= 0 ? t < (double)w->n_buckets ? (uint32_t)t : w->n_buckets - 1
-                  : 0;
+    /* + 0.0: -0.0 and 0.0 have different keys */
+    return ymap_rank(&w->ymap, dkey(lo + 0.0));
 }
 
 /* Links record r, whose event is set, into its bucket. */
@@ -1280,6 +1409,7 @@ static void sweep_free(sweep *w) {
     free(w->red);
     free(w->rec_block);
     free(w->bhead);
+    free(w->ymap.block);
     free(w->ehe);
     free(w->tri);
     free(w->adj);
@@ -1355,17 +1485,14 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     if (!w.arcs || !w.red || !w.ehe || !w.ws)
         goto fail;
     w.top = NO_EVENT;
-    if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX) {
-        /* one bucket per site over the sites' y range, if it has a width */
-        w.y0 = w.xy[1];
+    if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX &&
+        w.xy[2 * w.n - 1] > w.xy[1]) {
+        /* one bucket per site, if the sites' y range has a width */
         w.n_buckets = (uint32_t)w.n;
-        w.bscale = (double)w.n_buckets / (w.xy[2 * w.n - 1] - w.y0);
         w.budget = 64 * (size_t)BUCKET_READS;
-        if (w.bscale > 0 && w.bscale <= DBL_MAX) {
-            w.bhead = malloc(w.n_buckets * sizeof *w.bhead);
-            if (!w.bhead) goto fail;
-            memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */
-        }
+        w.bhead = malloc(w.n_buckets * sizeof *w.bhead);
+        if (!w.bhead) goto fail;
+        memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */
     }
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
     w.red[NIL] = 0;

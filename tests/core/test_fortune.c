@@ -862,6 +862,31 @@ static void test_sort_paths(void **state) {
     xy[1] = 0.25; /* ...but for one site, so not collinear */
     check_points("one row and a site", xy, n, 1);
     free(xy);
+    /* the rank map's crowded bins and its clamps: a dense city and one
+     * stray point, log-normal and twelve-decade y with both signs, nested
+     * clusters, a few rows of equal y */
+    xy = vt_uniform(n, 23);
+    assert_non_null(xy);
+    vt_rng r = {23};
+    for (size_t i = 0; i < n; i++) {
+        xy[2 * i] = 8.45 + 0.1 * xy[2 * i];
+        xy[2 * i + 1] = 47.25 + 0.1 * xy[2 * i + 1];
+    }
+    xy[0] = xy[1] = 0;
+    check_points("a city and a stray point at (0, 0)", xy, n, 1);
+    for (size_t i = 0; i < n; i++) xy[2 * i + 1] = exp(2 * vt_gauss(&r));
+    check_points("log-normal y", xy, n, 1);
+    for (size_t i = 0; i < n; i++)
+        xy[2 * i + 1] = pow(10, 12 * vt_unit(&r) - 6) *
+                        (vt_next(&r) & 1 ? 1 : -1);
+    check_points("y over twelve decades, both signs", xy, n, 1);
+    for (size_t i = 0; i < n; i++)
+        xy[2 * i + 1] = (double)(i % 5) + pow(10, -(double)(i % 7)) *
+                                              vt_unit(&r);
+    check_points("nested clusters in y", xy, n, 1);
+    for (size_t i = 0; i < n; i++) xy[2 * i + 1] = (double)(i % 7);
+    check_points("seven rows of equal y", xy, n, 1);
+    free(xy);
     for (size_t k = 15; k <= 18; k++) {
         double *u = vt_uniform(k, 22 + (unsigned)k);
         assert_non_null(u);
