@@ -23,6 +23,11 @@
  * sites copied in insertion order (16), the order (4) and two small arrays
  * for the cavity and its boundary.
  *
+ * Counts (vor_counts): predicate calls in locals, added to the walk's per
+ * site, triangles made and removed in the state; with a trace hook each
+ * insertion reports its cavity (each triangle written down as the search
+ * marks it) and its star, in site indices (mesh.h, vor__run).
+ *
  * vor__bowyer_watson hands the mesh as it stands (ghosts, local ids) to
  * vor__mesh_dual (mesh_dual.c), which reads the diagram off it in
  * insertion order; vor__bowyer_watson_mesh finishes it for the checker and
@@ -36,7 +41,8 @@
 #define XY(v) (xy + 2 * (size_t)(v))
 
 /* Construction state. The two scratch arrays share one capacity, which
- * starts at 256 and doubles when a cavity needs more. */
+ * starts at 256 and doubles when a cavity needs more; so does the trace's
+ * scratch, when there is a trace. */
 typedef struct bw {
     vor__mesh *m;
     const double *xy;
@@ -44,6 +50,11 @@ typedef struct bw {
     uint32_t *cav; /* cavity triangles in the order found: the free slots */
     uint32_t *bnd; /* twins of the boundary edges, counter-clockwise */
     size_t cap;
+    uint64_t created, removed; /* triangles, ghosts included (vor_counts) */
+    vor__run *run;
+    const uint32_t *order; /* site index of each local vertex */
+    uint32_t *steps;       /* with a trace: 6 cap site numbers, the cavity's
+                              triangles then the star's */
 } bw;
 
 /* Marks a cavity triangle during the search, in its first vertex slot
@@ -62,8 +73,62 @@ static int grow(bw *st) {
     if (!(v = realloc(st->bnd, cap * sizeof *v)))
         return -1;
     st->bnd = v;
+    if (st->run->trace) {
+        if (!(v = realloc(st->steps, 6 * cap * sizeof *v)))
+            return -1;
+        st->steps = v;
+    }
     st->cap = cap;
     return 0;
+}
+
+/* Site index of local vertex v, VOR_INFINITE for the ghost. */
+static inline uint32_t site_of(const bw *st, uint32_t v) {
+    return v == VOR__GHOST ? VOR_INFINITE : st->order[v];
+}
+
+/* Writes triangle a, b, c (local ids) as site numbers to out[0..2]. */
+static void put_sites(const bw *st, uint32_t *out, uint32_t a, uint32_t b,
+                      uint32_t c) {
+    out[0] = site_of(st, a);
+    out[1] = site_of(st, b);
+    out[2] = site_of(st, c);
+}
+
+/* The counts so far: the insertion order's (in run) and this build's. */
+static void counts_now(const bw *st, vor_counts *c) {
+    *c = st->run->counts;
+    c->walk_steps += st->w.steps;
+    c->orient2d += st->w.orient2d;
+    c->incircle += st->w.incircle;
+    c->exact += st->w.exact;
+    c->triangles_created += st->created;
+    c->cavity_triangles += st->removed;
+}
+
+/* The INSERT step of vertex p: the first ncav entries of cav are its
+ * cavity, whose triangles the search wrote to st->steps as it found
+ * them; the star is in the slots cav[0..nb-1] now. */
+static void trace_insert(bw *st, uint32_t p, const uint32_t *cav,
+                         size_t ncav, size_t nb) {
+    const uint32_t *tri = st->m->tri;
+    uint32_t *star = st->steps + 3 * st->cap;
+    for (size_t i = 0; i < nb; i++) {
+        const uint32_t *v = tri + 3 * (size_t)cav[i];
+        put_sites(st, star + 3 * i, v[0], v[1], v[2]);
+    }
+    vor_counts c;
+    counts_now(st, &c);
+    vor_step step;
+    vor__step_init(&step, VOR_STEP_INSERT);
+    step.counts = &c;
+    step.site = st->order[p];
+    for (int k = 0; k < 3; k++) step.tri[k] = st->steps[k];
+    step.cavity = st->steps;
+    step.n_cavity = ncav;
+    step.star = star;
+    step.n_star = nb;
+    st->run->trace(st->run->trace_ctx, &step);
 }
 
 /* Inserts vertex p. VOR_ENOMEM if the scratch arrays cannot grow; the
@@ -77,6 +142,8 @@ static vor_status insert(bw *st, uint32_t p) {
     int32_t on_edge;
     uint32_t t0 = vor__mesh_locate(m, xy, p, &st->w, &on_edge);
     (void)on_edge; /* a triangle with p on an edge is in conflict too */
+    const int tracing = st->run->trace != NULL;
+    uint64_t incircle = 0, orient2d = 0;
 
     /* Cavity search: a walk around the boundary of the cavity, which is a
      * tree of triangles (a depth-first tour without a stack). Being at
@@ -102,6 +169,8 @@ static vor_status insert(bw *st, uint32_t p) {
      * below adds two to cav; one test covers both arrays */
     size_t room = st->cap - 3, ncav = 1, nb = 0;
     cav[0] = t0;
+    if (tracing)
+        put_sites(st, st->steps, tri[3 * t0], tri[3 * t0 + 1], tri[3 * t0 + 2]);
     tri[3 * t0] = MARK;
     uint32_t e0 = 3 * t0, e = e0;
     do {
@@ -123,15 +192,22 @@ static vor_status insert(bw *st, uint32_t p) {
         int in;
         if (((a | b | c) >> 30) == 0) {
             /* no vertex is the ghost: site ids are < 2^30 (mesh.h) */
-            in = vor__incircle_static(XY(a), XY(b), XY(c), pp, st->w.icc) > 0;
-        } else if (c == VOR__GHOST) {
-            in = vor__ghost_conflict(XY(a), XY(b), pp);
-        } else if (a == VOR__GHOST) {
-            in = vor__ghost_conflict(XY(b), XY(c), pp);
+            in = vor__incircle_static_n(XY(a), XY(b), XY(c), pp, st->w.icc,
+                                        &st->w.exact) > 0;
+            incircle++;
         } else {
-            in = vor__ghost_conflict(XY(c), XY(a), pp);
+            if (c == VOR__GHOST) {
+                in = vor__ghost_conflict_n(XY(a), XY(b), pp, &st->w.exact);
+            } else if (a == VOR__GHOST) {
+                in = vor__ghost_conflict_n(XY(b), XY(c), pp, &st->w.exact);
+            } else {
+                in = vor__ghost_conflict_n(XY(c), XY(a), pp, &st->w.exact);
+            }
+            orient2d++;
         }
         if (in) {
+            if (tracing)
+                put_sites(st, st->steps + 3 * ncav, a, b, c);
             tri[base] = MARK;
             cav[ncav++] = base / 3;
             e = nf;
@@ -174,32 +250,52 @@ static vor_status insert(bw *st, uint32_t p) {
         t = u;
     }
     st->w.tri = cav[0];
+    st->w.incircle += incircle;
+    st->w.orient2d += orient2d;
+    st->removed += ncav - 2;
+    st->created += nb;
+    if (tracing)
+        trace_insert(st, p, cav, ncav - 2, nb);
     return VOR_OK;
 }
 
 /* The ghost-closed mesh in local ids (mesh.h), *pxy the coordinates in
  * insertion order; on error nothing is left allocated. */
 static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
-                        double **pxy) {
+                        double **pxy, vor__run *run) {
     double *xy;
-    bw st = {.m = m};
+    bw st = {.m = m, .run = run, .order = order};
     *pxy = NULL;
     if (grow(&st)) {
         free(st.cav);
         free(st.bnd);
+        free(st.steps);
         return VOR_ENOMEM;
     }
     vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
     if (r != VOR_OK) {
         free(st.cav);
         free(st.bnd);
+        free(st.steps);
         return r;
     }
     st.xy = xy;
+    st.created = 4; /* the first triangle and its ghosts */
+    if (run->trace) {
+        vor_counts c;
+        counts_now(&st, &c);
+        vor__mesh_trace_begin(m, order, s->n, run, &c);
+    }
     for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
         r = insert(&st, v);
+    vor__walk_count(&st.w, run);
+    run->counts.triangles_created += st.created;
+    run->counts.cavity_triangles += st.removed;
+    if (r == VOR_OK)
+        vor__trace_end(run);
     free(st.cav);
     free(st.bnd);
+    free(st.steps);
     if (r != VOR_OK) {
         free(xy);
         vor__mesh_clear(m);
@@ -218,6 +314,12 @@ vor_status vor__bowyer_watson_mesh(const vor_sites *s, vor__mesh *m) {
     return vor__mesh_build(s, build, m);
 }
 
+vor_status vor__bowyer_watson_run(const vor_sites *s, vor__run *run,
+                                  vor_diagram **out) {
+    return vor__mesh_voronoi(s, build, run, out);
+}
+
 vor_status vor__bowyer_watson(const vor_sites *s, vor_diagram **out) {
-    return vor__mesh_voronoi(s, build, out);
+    vor__run run = {0};
+    return vor__mesh_voronoi(s, build, &run, out);
 }

@@ -28,6 +28,11 @@
  * O(n log n) with the sort; memory: the mesh (48 bytes per site), the
  * sites copied in insertion order (16), the order (4) and one small stack.
  *
+ * Counts (vor_counts): predicate calls and flips in locals, added to the
+ * state once per site; with a trace hook each insertion reports the
+ * triangles it replaces and makes, and each flip its edges (in site
+ * indices), before the mesh is rewritten.
+ *
  * vor__flip hands the mesh as it stands (ghosts, local ids) to
  * vor__mesh_dual (mesh_dual.c), which reads the diagram off it in
  * insertion order; vor__flip_mesh finishes it for the checker and the
@@ -46,6 +51,12 @@ typedef struct flipper {
     vor__walk w;
     uint32_t *stack; /* edges to legalise */
     size_t n, cap;
+    uint64_t created, flips; /* (vor_counts) */
+    vor__run *run;
+    const uint32_t *order; /* site index of each local vertex */
+    uint32_t *steps;       /* with a trace: its scratch, tcap words */
+    size_t tcap;
+    uint32_t located[3];   /* with a trace: where location ended (sites) */
 } flipper;
 
 /* Reserves room for k more stack entries. */
@@ -66,6 +77,75 @@ static int reserve(flipper *st, size_t k) {
 static inline void link(int32_t *adj, uint32_t e, uint32_t f) {
     adj[e] = (int32_t)f;
     adj[f] = (int32_t)e;
+}
+
+/* ---- Trace ----------------------------------------------------------------
+ * With a trace, each insertion reports the triangles it replaces (written
+ * to st->steps before the split or the hull fan rewrites them) and those
+ * it makes, then each flip. */
+
+static inline uint32_t site_of(const flipper *st, uint32_t v) {
+    return v == VOR__GHOST ? VOR_INFINITE : st->order[v];
+}
+
+/* Room for k triangles in the trace's scratch: the lower half holds the
+ * cavity's site numbers (3 k) and then the star's slots (k), the upper
+ * half the star's site numbers. -1 if out of memory. */
+static int trace_reserve(flipper *st, size_t k) {
+    if (8 * k <= st->tcap)
+        return 0;
+    size_t cap = 8 * k + 64;
+    uint32_t *v = realloc(st->steps, cap * sizeof *v);
+    if (!v)
+        return -1;
+    st->steps = v;
+    st->tcap = cap;
+    return 0;
+}
+
+/* Writes triangle t as site numbers to out[0..2]. */
+static void put_triangle(const flipper *st, uint32_t *out, uint32_t t) {
+    const uint32_t *v = st->m->tri + 3 * (size_t)t;
+    for (int k = 0; k < 3; k++) out[k] = site_of(st, v[k]);
+}
+
+/* The counts so far: the insertion order's (in run) and this build's,
+ * with the legalisation's tests and flips not yet added to st. */
+static void counts_now(const flipper *st, uint64_t tests, uint64_t flips,
+                       vor_counts *c) {
+    *c = st->run->counts;
+    c->walk_steps += st->w.steps;
+    c->orient2d += st->w.orient2d;
+    c->incircle += st->w.incircle + tests;
+    c->exact += st->w.exact;
+    c->flips += st->flips + flips;
+    c->triangles_created += st->created + 2 * (st->flips + flips);
+}
+
+/* Reports the INSERT step of p: the cavity of ncav triangles already in
+ * st->steps, the star the triangles star[0..nstar-1]. */
+static void trace_insert(flipper *st, uint32_t p, vor_split split,
+                         const uint32_t *edge, size_t ncav,
+                         const uint32_t *star, size_t nstar) {
+    uint32_t *out = st->steps + st->tcap / 2;
+    for (size_t i = 0; i < nstar; i++) put_triangle(st, out + 3 * i, star[i]);
+    vor_counts c;
+    counts_now(st, 0, 0, &c);
+    vor_step step;
+    vor__step_init(&step, VOR_STEP_INSERT);
+    step.counts = &c;
+    step.site = st->order[p];
+    for (int k = 0; k < 3; k++) step.tri[k] = st->located[k];
+    step.split = split;
+    if (edge) {
+        step.edge[0] = site_of(st, edge[0]);
+        step.edge[1] = site_of(st, edge[1]);
+    }
+    step.cavity = st->steps;
+    step.n_cavity = ncav;
+    step.star = out;
+    step.n_star = nstar;
+    st->run->trace(st->run->trace_ctx, &step);
 }
 
 /* 1 -> 3: p strictly inside triangle t = (a, b, c).
@@ -102,6 +182,11 @@ static void split3(flipper *st, uint32_t t, uint32_t p) {
     st->stack[st->n++] = 3 * n1;
     st->stack[st->n++] = 3 * n2;
     st->w.tri = t;
+    st->created += 3;
+    if (st->run->trace) {
+        const uint32_t star[3] = {t, n1, n2};
+        trace_insert(st, p, VOR_SPLIT_TRIANGLE, NULL, 1, star, 3);
+    }
 }
 
 /* 2 -> 4: p on edge e = a->b of triangle t = (a, b, c); across it is
@@ -150,6 +235,11 @@ static void split4(flipper *st, uint32_t e, uint32_t p) {
         st->stack[st->n++] = 3 * u2 + 2;
     }
     st->w.tri = e / 3;
+    st->created += 4;
+    if (st->run->trace) {
+        const uint32_t star[4] = {e / 3, t2, f / 3, u2}, edge[2] = {a, b};
+        trace_insert(st, p, VOR_SPLIT_EDGE, edge, 2, star, 4);
+    }
 }
 
 /* p strictly outside the hull edge of ghost g.
@@ -178,20 +268,35 @@ static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
     size_t k = 1;
     for (;;) {
         uint32_t pe = vor__prev((uint32_t)adj[vor__prev(first)]);
-        if (vor__orient2d_fast(XY(tri[pe]), XY(tri[vor__next(pe)]), pp) <= 0)
+        st->w.orient2d++;
+        if (vor__orient2d_fast_n(XY(tri[pe]), XY(tri[vor__next(pe)]), pp,
+                                 &st->w.exact) <= 0)
             break;
         first = pe;
         k++;
     }
     for (;;) {
         uint32_t ne = vor__next((uint32_t)adj[vor__next(last)]);
-        if (vor__orient2d_fast(XY(tri[ne]), XY(tri[vor__next(ne)]), pp) <= 0)
+        st->w.orient2d++;
+        if (vor__orient2d_fast_n(XY(tri[ne]), XY(tri[vor__next(ne)]), pp,
+                                 &st->w.exact) <= 0)
             break;
         last = ne;
         k++;
     }
     if (reserve(st, k))
         return VOR_ENOMEM;
+    const int tracing = st->run->trace != NULL;
+    if (tracing) {
+        if (trace_reserve(st, k + 2))
+            return VOR_ENOMEM;
+        size_t i = 0;
+        for (e = first;; e = vor__next((uint32_t)adj[vor__next(e)])) {
+            put_triangle(st, st->steps + 3 * i++, e / 3);
+            if (e == last)
+                break;
+        }
+    }
     uint32_t v0 = tri[first], vk = tri[vor__next(last)];
     uint32_t in0 = vor__prev(first), outk = vor__next(last);
     int32_t x0 = adj[in0], xk = adj[outk];
@@ -215,6 +320,20 @@ static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
     link(adj, 3 * g1, outk);
     link(adj, 3 * g1 + 1, (uint32_t)xk);
     st->w.tri = first / 3;
+    st->created += k + 2;
+    if (tracing) {
+        /* the fan's triangles (their slots are the ghosts'), then g0, g1 */
+        uint32_t *star = st->steps + 3 * (k + 2);
+        size_t i = 0;
+        for (e = first;; e = vor__next((uint32_t)adj[vor__next(e)])) {
+            star[i++] = e / 3;
+            if (e == last)
+                break;
+        }
+        star[i++] = g0;
+        star[i++] = g1;
+        trace_insert(st, p, VOR_SPLIT_HULL, NULL, k, star, k + 2);
+    }
     return VOR_OK;
 }
 
@@ -247,6 +366,22 @@ static void flip(int32_t *adj, uint32_t *tri, uint32_t e, uint32_t f,
     link(adj, ne, pf);
 }
 
+/* Reports the flip of edge a-b of (a, b, p) to p-d; tests and flips are
+ * legalise's so far. */
+static void trace_flip(flipper *st, uint32_t a, uint32_t b, uint32_t p,
+                       uint32_t d, uint64_t tests, uint64_t flips) {
+    vor_counts c;
+    counts_now(st, tests, flips, &c);
+    vor_step step;
+    vor__step_init(&step, VOR_STEP_FLIP);
+    step.counts = &c;
+    step.tri[0] = step.edge[0] = st->order[a];
+    step.tri[1] = step.edge[1] = st->order[b];
+    step.tri[2] = step.added[0] = st->order[p];
+    step.added[1] = st->order[d];
+    st->run->trace(st->run->trace_ctx, &step);
+}
+
 /* Pops edges until the stack is empty; each flip pushes two. Stacked
  * edges have finite ends (split4 leaves out those of the ghost vertex);
  * an edge whose far triangle is a ghost is a hull edge and stays. */
@@ -257,6 +392,7 @@ static vor_status legalise(flipper *st, uint32_t p) {
     const double *pp = XY(p);
     uint32_t *stack = st->stack;
     size_t n = st->n;
+    uint64_t tests = 0, flips = 0;
     while (n) {
         uint32_t e = stack[--n];
         uint32_t f = (uint32_t)adj[e];
@@ -266,19 +402,29 @@ static vor_status legalise(flipper *st, uint32_t p) {
             continue;
         uint32_t a = tri[e], b = tri[vor__next(e)];
         assert(a != VOR__GHOST && b != VOR__GHOST);
-        if (vor__incircle_static(XY(a), XY(b), pp, XY(d), st->w.icc) <= 0)
+        tests++;
+        if (vor__incircle_static_n(XY(a), XY(b), pp, XY(d), st->w.icc,
+                                   &st->w.exact) <= 0)
             continue;
         if (n + 2 > st->cap) {
             st->n = n;
-            if (reserve(st, 2))
+            if (reserve(st, 2)) {
+                st->w.incircle += tests;
+                st->flips += flips;
                 return VOR_ENOMEM;
+            }
             stack = st->stack;
         }
         flip(adj, tri, e, f, p);
+        flips++;
+        if (st->run->trace)
+            trace_flip(st, a, b, p, d, tests, flips);
         stack[n++] = e;
         stack[n++] = f;
     }
     st->n = 0;
+    st->w.incircle += tests;
+    st->flips += flips;
     return VOR_OK;
 }
 
@@ -287,6 +433,15 @@ static vor_status insert(flipper *st, uint32_t p) {
     int32_t on_edge;
     assert(m->n_tri + 2 <= m->cap_tri);
     uint32_t t = vor__mesh_locate(m, st->xy, p, &st->w, &on_edge);
+    if (st->run->trace) {
+        /* the triangles a split replaces, before it rewrites them */
+        if (trace_reserve(st, 4))
+            return VOR_ENOMEM;
+        put_triangle(st, st->located, t);
+        put_triangle(st, st->steps, t);
+        if (on_edge >= 0)
+            put_triangle(st, st->steps + 3, (uint32_t)m->adj[on_edge] / 3);
+    }
     if (vor__mesh_is_ghost(m->tri, t)) {
         if (hull_insert(st, t, p))
             return VOR_ENOMEM;
@@ -304,17 +459,29 @@ static vor_status insert(flipper *st, uint32_t p) {
 /* The ghost-closed mesh in local ids (mesh.h), *pxy the coordinates in
  * insertion order; on error nothing is left allocated. */
 static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
-                        double **pxy) {
+                        double **pxy, vor__run *run) {
     double *xy;
-    flipper st = {.m = m};
+    flipper st = {.m = m, .run = run, .order = order};
     *pxy = NULL;
     vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
     if (r != VOR_OK)
         return r;
     st.xy = xy;
+    st.created = 4; /* the first triangle and its ghosts */
+    if (run->trace) {
+        vor_counts c;
+        counts_now(&st, 0, 0, &c);
+        vor__mesh_trace_begin(m, order, s->n, run, &c);
+    }
     for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
         r = insert(&st, v);
+    vor__walk_count(&st.w, run);
+    run->counts.triangles_created += st.created + 2 * st.flips;
+    run->counts.flips += st.flips;
+    if (r == VOR_OK)
+        vor__trace_end(run);
     free(st.stack);
+    free(st.steps);
     if (r != VOR_OK) {
         free(xy);
         vor__mesh_clear(m);
@@ -333,6 +500,12 @@ vor_status vor__flip_mesh(const vor_sites *s, vor__mesh *m) {
     return vor__mesh_build(s, build, m);
 }
 
+vor_status vor__flip_run(const vor_sites *s, vor__run *run,
+                         vor_diagram **out) {
+    return vor__mesh_voronoi(s, build, run, out);
+}
+
 vor_status vor__flip(const vor_sites *s, vor_diagram **out) {
-    return vor__mesh_voronoi(s, build, out);
+    vor__run run = {0};
+    return vor__mesh_voronoi(s, build, &run, out);
 }

@@ -83,6 +83,14 @@
  * line and queue (O(sqrt n) arcs for typical input, at most 2n). The edge
  * records, the map, the beach line and the queue are freed before the
  * conversion, which owns the rest.
+ *
+ * Counts and trace (vor_counts, vor_step). The sweep counts its events,
+ * its predicates by name and how many of them needed exact arithmetic in
+ * w->cnt, a field of its own state, at the points where it decides; the
+ * run gets them at the end. With a trace hook, each event reports a step
+ * in site indices, with the beach line after it (walked from the leftmost
+ * arc: O(beach) per event, only when tracing); without one, each report
+ * is a branch not taken.
  */
 #include <assert.h>
 #include <float.h>
@@ -193,6 +201,18 @@ typedef struct sweep {
     size_t n_tri, cap_tri;
 
     vor__fortune_ws *ws; /* scratch of the exact event comparison */
+
+    /* What the sweep reports besides the mesh (vor_counts, vor_step):
+     * the counts of this run, the arcs on the beach line now, and with a
+     * trace, the input (for drawing coordinates), the leftmost arc and a
+     * scratch array of cap_beach sites. */
+    vor_counts cnt;
+    uint32_t n_beach;
+    vor__run *run;
+    const vor_sites *s;
+    uint32_t leftmost;
+    uint32_t *beach;
+    size_t cap_beach;
 } sweep;
 
 static inline const double *site_xy(const sweep *w, uint32_t s) {
@@ -863,16 +883,18 @@ static void remove_arc(sweep *w, uint32_t z) {
 /* Side of p (on the sweep line) against arc x's left breakpoint: > 0 if
  * the breakpoint is left of p (or x is the leftmost arc), < 0 if right of
  * it, 0 if exactly above p. */
-static inline int bp_side(const sweep *w, uint32_t x, const double *p) {
+static inline int bp_side(sweep *w, uint32_t x, const double *p) {
     const arc *ax = &w->arcs[x];
+    w->cnt.breakpoint_tests += ax->prev != NIL;
     return ax->prev == NIL ? 1
-                           : vor__fortune_bp_side(ax->lxy, ax->xy, p, w->safe);
+                           : vor__fortune_bp_side_n(ax->lxy, ax->xy, p, w->safe,
+                                                    &w->cnt.breakpoint_exact);
 }
 
 /* The arc above site p (sweep line at p.y): the last arc whose left
  * breakpoint is not right of p. *on is set when p is exactly below that
  * breakpoint. O(log n) breakpoint tests. */
-static uint32_t locate(const sweep *w, const double *p, int *on) {
+static uint32_t locate(sweep *w, const double *p, int *on) {
     const arc *arcs = w->arcs;
     uint32_t x = w->root, found = NIL;
     *on = 0;
@@ -890,6 +912,59 @@ static uint32_t locate(const sweep *w, const double *p, int *on) {
     }
     assert(found != NIL);
     return found;
+}
+
+/* ---- Trace -----------------------------------------------------------------
+ * With a trace (run->trace), each event reports a step (vor.h) in site
+ * indices: orig[] maps the sorted ids. Coordinates for drawing come from
+ * the input, not the rescaled copy. Only called when tracing. */
+
+/* The counts so far into c; exact is the sum of the sweep's three. */
+static const vor_counts *counts_now(const sweep *w, vor_counts *c) {
+    *c = w->run->counts;
+    vor__counts_add(c, &w->cnt);
+    c->exact += w->cnt.breakpoint_exact + w->cnt.circle_top_exact +
+                w->cnt.event_exact;
+    return c;
+}
+
+/* Reports a SCHEDULE or CANCEL step for the sorted triple t. */
+static void trace_event(sweep *w, vor_step_kind kind, const uint32_t *t) {
+    vor_step st;
+    vor_counts c;
+    vor__step_init(&st, kind);
+    st.counts = counts_now(w, &c);
+    for (int k = 0; k < 3; k++) st.tri[k] = w->orig[t[k]];
+    vor__trace_circle(w->s, st.tri[0], st.tri[1], st.tri[2], st.vertex, &st.y);
+    w->run->trace(w->run->trace_ctx, &st);
+}
+
+/* Fills st->beach with the beach line's sites, left to right, and returns
+ * the position of arc x in it (UINT32_MAX if x is not on it). VOR_ENOMEM
+ * through *status if the scratch cannot grow. */
+static uint32_t trace_beach(sweep *w, vor_step *st, uint32_t x,
+                            vor_status *status) {
+    *status = VOR_OK;
+    if (w->cap_beach < w->n_beach) {
+        size_t cap = 2 * (size_t)w->n_beach + 64;
+        uint32_t *v = realloc(w->beach, cap * sizeof *v);
+        if (!v) {
+            *status = VOR_ENOMEM;
+            return UINT32_MAX;
+        }
+        w->beach = v;
+        w->cap_beach = cap;
+    }
+    uint32_t at = UINT32_MAX, k = 0;
+    for (uint32_t a = w->leftmost; a != NIL; a = ARC(a).next) {
+        assert(k < w->n_beach);
+        if (a == x) at = k;
+        w->beach[k++] = w->orig[ARC(a).site];
+    }
+    assert(k == w->n_beach);
+    st->beach = w->beach;
+    st->n_beach = k;
+    return at;
 }
 
 /* ---- Event records and the heap ------------------------------------------ */
@@ -1015,6 +1090,7 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
         if (c != 0) return c < 0;
     }
     int c;
+    w->cnt.event_exact++;
     if (!vor__fortune_circle_cmp_small(a1, b1, c1, a2, b2, c2, &c))
         c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
     return c != 0 ? c < 0 : r1 < r2;
@@ -1023,6 +1099,7 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
 /* 1 if event x comes strictly before event y in sweep order. Exact: the
  * float intervals decide when they are disjoint, ev_tie() otherwise. */
 static inline int ev_before(sweep *w, const event *x, const event *y) {
+    w->cnt.event_compares++;
     if (x->hi < y->lo) return 1;
     if (y->hi < x->lo) return 0;
     return ev_tie(w, x->rec, y->rec);
@@ -1033,6 +1110,7 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
  * decides. */
 static inline uint32_t earlier_child(sweep *w, uint32_t c) {
     const event *x = &w->heap[c + 1], *y = &w->heap[c];
+    w->cnt.event_compares++;
     int lt = x->hi < y->lo, gt = y->hi < x->lo;
     if (lt | gt) return c + (uint32_t)lt;
     return c + (uint32_t)ev_tie(w, x->rec, y->rec);
@@ -1225,13 +1303,14 @@ static void drop_event(sweep *w, uint32_t b) {
 
 /* The circle event of arc b's current triple: 1 with its interval if the
  * breakpoints around b converge (exact orient2d > 0), else 0. */
-static inline int event_of(const sweep *w, uint32_t b, double *lo,
-                           double *hi) {
+static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *x = &w->arcs[b];
     if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
     if (ARC(x->prev).site == z->site) return 0;
-    return vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi) > 0;
+    w->cnt.circle_tops++;
+    return vor__fortune_circle_top_n(x->lxy, x->xy, z->xy, w->safe, lo, hi,
+                                     &w->cnt.circle_top_exact) > 0;
 }
 
 /* Fills record r for arc b's current triple. */
@@ -1255,6 +1334,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     rec_fill(w, r, b);
     q_insert(w, (event){lo, hi, r});
     ARC(b).ev = r;
+    if (w->run->trace) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
 }
 
@@ -1264,6 +1344,8 @@ static vor_status add_event(sweep *w, uint32_t b) {
 static vor_status renew_event(sweep *w, uint32_t b) {
     uint32_t r = ARC(b).ev;
     if (r == NO_EVENT) return add_event(w, b);
+    w->cnt.false_alarms++; /* the old triple's event will not happen */
+    if (w->run->trace) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
     double lo, hi;
     if (!event_of(w, b, &lo, &hi)) {
         drop_event(w, b);
@@ -1271,6 +1353,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     }
     rec_fill(w, r, b);
     q_update(w, (event){lo, hi, r});
+    if (w->run->trace) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
 }
 
@@ -1290,6 +1373,7 @@ static vor_status site_event(sweep *w, uint32_t i) {
     int on;
     uint32_t b = locate(w, p, &on);
     vor_status st;
+    w->cnt.site_events++;
     if (!on) {
         uint32_t s = arc_new(w, i);
         if (s == NIL) return VOR_ENOMEM;
@@ -1301,6 +1385,20 @@ static vor_status site_event(sweep *w, uint32_t i) {
         ARC(s).edge = e;
         insert_after(w, b, s);
         insert_after(w, s, b2);
+        w->n_beach += 2;
+        if (w->n_beach > w->cnt.beach_max) w->cnt.beach_max = w->n_beach;
+        if (w->run->trace) {
+            vor_step t;
+            vor_counts c;
+            vor__step_init(&t, VOR_STEP_SITE);
+            t.counts = counts_now(w, &c);
+            t.site = w->orig[i];
+            t.y = w->s->xy[2 * (size_t)t.site + 1];
+            t.arc = w->orig[ARC(b).site];
+            t.at = trace_beach(w, &t, s, &st);
+            if (st != VOR_OK) return st;
+            w->run->trace(w->run->trace_ctx, &t);
+        }
         if ((st = renew_event(w, b)) != VOR_OK) return st;
         return add_event(w, b2);
     }
@@ -1316,6 +1414,24 @@ static vor_status site_event(sweep *w, uint32_t i) {
     ARC(s).edge = edge_new(w);
     edge_end(w, ARC(s).edge, h + 1);
     insert_after(w, l, s);
+    w->cnt.breakpoint_hits++;
+    if (++w->n_beach > w->cnt.beach_max) w->cnt.beach_max = w->n_beach;
+    if (w->run->trace) {
+        vor_step t;
+        vor_counts c;
+        vor__step_init(&t, VOR_STEP_SITE);
+        t.counts = counts_now(w, &c);
+        t.site = w->orig[i];
+        t.y = w->s->xy[2 * (size_t)t.site + 1];
+        t.breakpoint[0] = t.tri[0] = w->orig[ARC(l).site];
+        t.breakpoint[1] = t.tri[1] = w->orig[ARC(r).site];
+        t.tri[2] = t.site;
+        double top;
+        vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &top);
+        t.at = trace_beach(w, &t, s, &st);
+        if (st != VOR_OK) return st;
+        w->run->trace(w->run->trace_ctx, &t);
+    }
     if ((st = renew_event(w, l)) != VOR_OK) return st;
     return renew_event(w, r);
 }
@@ -1333,9 +1449,29 @@ static vor_status circle_event(sweep *w, uint32_t b) {
     edge_end(w, ARC(b).edge, h + 1);
     ARC(a).edge = edge_new(w);
     edge_end(w, ARC(a).edge, h + 2);
-    remove_arc(w, b);
+    vor_status st;
+    w->cnt.circle_events++;
+    if (w->run->trace) {
+        vor_step t;
+        vor_counts now;
+        vor__step_init(&t, VOR_STEP_CIRCLE);
+        t.counts = counts_now(w, &now);
+        t.tri[0] = w->orig[ARC(a).site];
+        t.tri[1] = w->orig[ARC(b).site];
+        t.tri[2] = w->orig[ARC(c).site];
+        vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &t.y);
+        t.at = trace_beach(w, &t, b, &st); /* the position before */
+        if (st != VOR_OK) return st;
+        remove_arc(w, b);
+        w->n_beach--;
+        (void)trace_beach(w, &t, NIL, &st); /* the beach line after */
+        w->run->trace(w->run->trace_ctx, &t);
+    } else {
+        remove_arc(w, b);
+        w->n_beach--;
+    }
     arc_free(w, b);
-    vor_status st = renew_event(w, a);
+    st = renew_event(w, a);
     if (st != VOR_OK) return st;
     return renew_event(w, c);
 }
@@ -1348,6 +1484,7 @@ static vor_status circle_event(sweep *w, uint32_t b) {
  * integers for small lattices, then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
     const event *e = q_top(w);
+    w->cnt.event_compares++;
     if (e->lo > p[1]) return 0;
     if (e->hi < p[1]) return 1;
     const double *d;
@@ -1358,6 +1495,7 @@ static int event_first(sweep *w, const double *p) {
     const uint32_t *t = w->recs[e->rec].s;
     const double *a = site_xy(w, t[0]), *b = site_xy(w, t[1]),
                  *c = site_xy(w, t[2]);
+    w->cnt.event_exact++;
     int f = vor__fortune_site_first_small(p, a, b, c);
     if (f < 0) f = vor__fortune_site_first_exact(p, a, b, c);
     return !f;
@@ -1384,6 +1522,26 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
         i++;
     }
     w->row = (uint32_t)i;
+    w->n_beach = (uint32_t)i;
+    w->cnt.beach_max = i;
+    w->cnt.site_events = i;
+    if (w->run->trace) {
+        vor_step t;
+        vor_status st;
+        vor_counts c;
+        w->leftmost = *first;
+        vor__step_init(&t, VOR_STEP_ORDER);
+        t.counts = counts_now(w, &c);
+        t.order = w->orig;
+        t.n_order = n;
+        w->run->trace(w->run->trace_ctx, &t);
+        vor__step_init(&t, VOR_STEP_BEGIN);
+        t.counts = &c;
+        t.y = w->s->xy[2 * (size_t)w->orig[0] + 1];
+        (void)trace_beach(w, &t, NIL, &st);
+        if (st != VOR_OK) return st;
+        w->run->trace(w->run->trace_ctx, &t);
+    }
     for (;;) {
         vor_status st;
         if (w->bhead && (i == n || w->scanned > w->budget)) to_heap(w);
@@ -1413,6 +1571,7 @@ static void sweep_free(sweep *w) {
     free(w->ehe);
     free(w->tri);
     free(w->adj);
+    free(w->beach);
     vor__fortune_ws_free(w->ws);
 }
 
@@ -1451,6 +1610,20 @@ static void close_hull(sweep *w, uint32_t first) {
 }
 
 vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
+    vor__run run;
+    memset(&run, 0, sizeof run);
+    return vor__fortune_run(s, &run, out);
+}
+
+/* The counts of the sweep added to the run's. */
+static void count(const sweep *w, vor__run *run) {
+    vor__counts_add(&run->counts, &w->cnt);
+    run->counts.exact += w->cnt.breakpoint_exact + w->cnt.circle_top_exact +
+                         w->cnt.event_exact;
+}
+
+vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
+                            vor_diagram **out) {
     if (!out) return VOR_EINVAL;
     *out = NULL;
     if (!s || s->n < 3 || !s->xy) return VOR_EINVAL;
@@ -1459,6 +1632,8 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     sweep w;
     memset(&w, 0, sizeof w);
     w.n = s->n;
+    w.run = run;
+    w.s = s;
     vor_status st;
     double scale = choose_scale(s, &w.safe);
     /* 2n triangles' room, of which the mesh uses 2n - 2 (Euler, ghosts
@@ -1501,7 +1676,10 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out) {
     w.free_recs = NO_EVENT;
 
     uint32_t first;
-    if ((st = sweep_run(&w, &first)) != VOR_OK) goto fail;
+    st = sweep_run(&w, &first);
+    count(&w, run);
+    if (st != VOR_OK) goto fail;
+    vor__trace_end(run);
     if (w.n_tri == 0) { /* no vertex: the sites were collinear after all */
         sweep_free(&w);
         return vor__diagram_degenerate(s, out);

@@ -50,6 +50,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 
 #include "internal.h"
 
@@ -62,9 +63,12 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
                               const double *p);
 
 /* Sign of F (see above), exact. safe: the caller guarantees the range
- * condition, which lets the inline filter decide. */
-static inline int vor__fortune_bp_poly(const double *a, const double *b,
-                                       const double *p, int safe) {
+ * condition, which lets the inline filter decide. Adds 1 to *slow when the
+ * inline filter cannot (the call goes to vor__fortune_bp_poly_slow: a
+ * rescaled filter, then exact integers). */
+static inline int vor__fortune_bp_poly_n(const double *a, const double *b,
+                                         const double *p, int safe,
+                                         uint64_t *slow) {
     if (safe) {
         double ux = p[0] - a[0], uy = p[1] - a[1];
         double vx = p[0] - b[0], vy = p[1] - b[1];
@@ -74,7 +78,14 @@ static inline int vor__fortune_bp_poly(const double *a, const double *b,
         if (f > bound) return 1;
         if (-f > bound) return -1;
     }
+    ++*slow;
     return vor__fortune_bp_poly_slow(a, b, p);
+}
+
+static inline int vor__fortune_bp_poly(const double *a, const double *b,
+                                       const double *p, int safe) {
+    uint64_t unread = 0;
+    return vor__fortune_bp_poly_n(a, b, p, safe, &unread);
 }
 
 /* Side of p relative to the breakpoint between adjacent arcs of sites a
@@ -83,8 +94,9 @@ static inline int vor__fortune_bp_poly(const double *a, const double *b,
  * +1 right. Requires a.y <= p.y, b.y <= p.y, (a.y, a.x) < (p.y, p.x) and the
  * same for b (both processed before p), a != b, and not both a.y and b.y
  * equal to p.y. Exact. */
-static inline int vor__fortune_bp_side(const double *a, const double *b,
-                                       const double *p, int safe) {
+static inline int vor__fortune_bp_side_n(const double *a, const double *b,
+                                         const double *p, int safe,
+                                         uint64_t *slow) {
     if (a[1] < b[1]) {
         /* b is the narrower arc; (a, b) is its left end, b.x inside it */
         if (p[0] >= b[0]) return 1;
@@ -93,7 +105,14 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
         if (p[0] <= a[0]) return -1;
     }
     /* equal y: the breakpoint is the vertical bisector, F decides alone */
-    return vor__fortune_bp_poly(a, b, p, safe);
+    return vor__fortune_bp_poly_n(a, b, p, safe, slow);
+}
+
+/* The same, without counting (*slow as for vor__fortune_bp_poly_n). */
+static inline int vor__fortune_bp_side(const double *a, const double *b,
+                                       const double *p, int safe) {
+    uint64_t unread = 0;
+    return vor__fortune_bp_side_n(a, b, p, safe, &unread);
 }
 
 /* The circle event of arcs of sites a, b, c (left to right): returns
@@ -106,6 +125,12 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
  * filter skip its per-call rescaling. Never fails. */
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi);
+/* The same, adding 1 to *undecided when floating point could settle
+ * neither the orientation (exact orient2d then decides) nor, for +1, a
+ * finite interval. */
+int vor__fortune_circle_top_n(const double *a, const double *b,
+                              const double *c, int safe, double *lo,
+                              double *hi, uint64_t *undecided);
 
 /* 1 if site s comes strictly before the circle event of a, b, c
  * (orient2d(a, b, c) > 0) in sweep order, 0 if the event comes first.

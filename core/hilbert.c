@@ -56,7 +56,9 @@
  * pages). A refinement costs a pass over its run, so a site pays once per
  * level of nesting it sits in (two or three for the skewed sets above; at
  * most MAX_DEPTH on contrived input). Memory: 16 bytes per site, freed
- * before returning.
+ * before returning. vor__insertion_order_counted adds the rounds, the
+ * refinements and the keys computed to a vor_counts, once per call and
+ * per refinement.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -259,7 +261,8 @@ static void sort_run(uint64_t *w, uint64_t *tmp, size_t m) {
  * longer separates the sites (coordinates that differ only below what
  * halving keeps), or at MAX_DEPTH. tmp has room for m words. */
 static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
-                   uint64_t *tmp, size_t m, unsigned state, int depth) {
+                   uint64_t *tmp, size_t m, unsigned state, int depth,
+                   vor_counts *counts) {
     const uint64_t imask = ((uint64_t)1 << INDEX_BITS) - 1;
     double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY,
            ymax = -INFINITY;
@@ -274,6 +277,10 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
     double half = hx > hy ? hx : hy;
     if (!(half > 0))
         return;
+    if (counts) {
+        counts->order_refinements++;
+        counts->order_keys += m;
+    }
     quantiser qx, qy;
     quantiser_init(&qx, xmin, half);
     quantiser_init(&qy, ymin, half);
@@ -294,7 +301,7 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
         if (j - i > LEAF)
             refine(xy, big, w + i, tmp, j - i,
                    key_state(state, (uint32_t)(w[i] >> INDEX_BITS)),
-                   depth + 1);
+                   depth + 1, counts);
         i = j;
     }
 }
@@ -311,6 +318,11 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
 #define MAX_ROUNDS 32
 
 vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
+    return vor__insertion_order_counted(xy, n, order, NULL);
+}
+
+vor_status vor__insertion_order_counted(const double *xy, size_t n,
+                                        uint32_t *order, vor_counts *counts) {
     if (n == 0)
         return VOR_OK;
     if (n == 1) {
@@ -342,6 +354,10 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
         free(w);
         free(tmp);
         return VOR_ENOMEM;
+    }
+    if (counts) {
+        counts->order_rounds += (uint64_t)k;
+        counts->order_keys += n;
     }
 
     uint8_t table[64];
@@ -384,7 +400,7 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
         if (j - i > LEAF) {
             uint32_t key = (uint32_t)(w[i] >> INDEX_BITS) &
                            (((uint32_t)1 << KEY_BITS) - 1);
-            refine(xy, big, w + i, tmp, j - i, key_state(0, key), 1);
+            refine(xy, big, w + i, tmp, j - i, key_state(0, key), 1, counts);
         }
         i = j;
     }

@@ -57,6 +57,10 @@ void *vor__calloc_large(size_t count, size_t size);
  * incremental insertion (Hilbert curve with biased randomised rounds, BRIO),
  * deterministic for a given input. VOR_ENOMEM on failure. */
 vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order);
+/* The same, adding its work to counts (order_rounds, order_refinements,
+ * order_keys) when counts is not NULL. */
+vor_status vor__insertion_order_counted(const double *xy, size_t n,
+                                        uint32_t *order, vor_counts *counts);
 
 /* ---- Delaunay mesh (core/mesh.h, core/mesh.c) ----------------------------
  * delaunator's representation: half-edge e goes from tri[e] to
@@ -82,6 +86,28 @@ vor_status vor__fortune(const vor_sites *s, vor_diagram **out);
 vor_status vor__bowyer_watson(const vor_sites *s, vor_diagram **out);
 vor_status vor__flip(const vor_sites *s, vor_diagram **out);
 
+/* What a run reports besides the diagram (vor_compute_ex). The algorithm
+ * adds its counts into run->counts (zeroed by the caller; the algorithms
+ * keep their counters in their own state and locals while they run, and
+ * add them here once at the end, also on error) and, when run->trace is
+ * not NULL, reports its steps through it (vor.h; core/trace.c has the
+ * helpers). The functions above are these with a run that nobody reads. */
+typedef struct vor__run {
+    vor_counts counts;
+    vor_trace_fn trace;
+    void *trace_ctx;
+} vor__run;
+
+typedef vor_status (*vor__algorithm_run_fn)(const vor_sites *s, vor__run *run,
+                                            vor_diagram **out);
+
+vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
+                            vor_diagram **out);
+vor_status vor__bowyer_watson_run(const vor_sites *s, vor__run *run,
+                                  vor_diagram **out);
+vor_status vor__flip_run(const vor_sites *s, vor__run *run,
+                         vor_diagram **out);
+
 /* Delaunay triangulations alone, for the mesh checker and the tests: fill
  * *m (zeroed by the caller) with a Delaunay triangulation of the sites; free
  * with vor__mesh_clear. */
@@ -95,6 +121,24 @@ void vor__mesh_clear(vor__mesh *m);
  * 0 if valid, else non-zero with a reason in msg. */
 int vor__mesh_check(const vor__mesh *m, const vor_sites *s, char *msg,
                     size_t msg_size);
+
+/* ---- Counts and steps (core/trace.c) ---------------------------------------
+ * Every count of from added to to's. */
+void vor__counts_add(vor_counts *to, const vor_counts *from);
+
+/* A step of the given kind with every field empty: site numbers
+ * VOR_INFINITE, arrays NULL, numbers 0. */
+void vor__step_init(vor_step *st, vor_step_kind kind);
+
+/* Reports the END step with run's counts, when run->trace is set. */
+void vor__trace_end(vor__run *run);
+
+/* For a trace's drawing: the circumcentre of sites a, b, c (site indices
+ * into s, in any order: they are sorted first, as the diagram's vertices
+ * are computed) into vertex, and the top of the circle, vertex y plus the
+ * radius, into *top. Doubles, not exact. */
+void vor__trace_circle(const vor_sites *s, uint32_t a, uint32_t b, uint32_t c,
+                       double vertex[2], double *top);
 
 /* ---- Building the canonical diagram (core/diagram.c) ---------------------
  * Converts a Delaunay mesh (any Delaunay triangulation of the sites: where

@@ -17,7 +17,9 @@
  * vor__mesh_locate O(length of the walk), short in spatial insertion order;
  * vor__mesh_finish O(n) (renumbering);
  * vor__mesh_check O(n) time and about 6 bytes per site of scratch memory.
- * All geometric decisions are the exact predicates of internal.h.
+ * All geometric decisions are the exact predicates of internal.h. The
+ * walk counts its steps and tests in locals and adds them to the walk
+ * state (vor__walk) when it stops.
  */
 #include <assert.h>
 #include <stdarg.h>
@@ -104,8 +106,11 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     size_t cap = 2 * n - 2;
     const double *a = XY(order[0]), *b = XY(order[1]);
     size_t k = 2;
-    while (k < n && vor__orient2d_fast(a, b, XY(order[k])) == 0)
+    uint64_t exact = 0;
+    while (k < n && vor__orient2d_fast_n(a, b, XY(order[k]), &exact) == 0)
         k++;
+    w->orient2d = k; /* the k - 1 tests above, and the one below */
+    w->steps = w->incircle = 0;
     if (k == n)
         return VOR_EINVAL;
     uint32_t c = order[k];
@@ -127,7 +132,8 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     m->n_tri = 4;
     uint32_t *tri = m->tri;
     int32_t *adj = m->adj;
-    int ccw = vor__orient2d_fast(local, local + 2, local + 4) > 0;
+    int ccw = vor__orient2d_fast_n(local, local + 2, local + 4, &exact) > 0;
+    w->exact = exact;
     tri[0] = ccw ? 0 : 1;
     tri[1] = ccw ? 1 : 0;
     tri[2] = 2;
@@ -175,6 +181,7 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     const double occ = w->occ;
     uint32_t rng = w->rng;
     uint32_t t = w->tri;
+    uint64_t steps = 0, tests = 0;
     if (vor__mesh_is_ghost(tri, t)) {
         /* Start in the finite triangle across the ghost's hull edge. */
         uint32_t e = 3 * t;
@@ -187,7 +194,8 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     uint32_t k;
     for (k = 0; k < 3; k++) {
         uint32_t e = 3 * t + k;
-        int o = vor__orient2d_static(XY(tri[e]), XY(tri[vor__next(e)]), pp, occ);
+        int o = vor__orient2d_static_n(XY(tri[e]), XY(tri[vor__next(e)]), pp,
+                                       occ, &w->exact);
         if (o < 0)
             break;
         if (o == 0)
@@ -195,18 +203,23 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     }
     if (k == 3) {
         w->tri = t;
+        w->orient2d += 3;
         *on_edge = zero;
         return t;
     }
+    tests = k + 1;
     uint32_t f = (uint32_t)adj[3 * t + k];
     for (;;) {
         uint32_t nf = vor__next(f), pf = vor__prev(f);
         uint32_t c = tri[pf];
+        steps++;
         if (c == VOR__GHOST) {
             /* p is strictly outside the hull edge we just crossed. */
             t = f / 3;
             w->tri = t;
             w->rng = rng;
+            w->steps += steps;
+            w->orient2d += tests;
             *on_edge = -1;
             return t;
         }
@@ -224,12 +237,14 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
             q2 = pb;
             q3 = pc;
         }
-        int o1 = vor__orient2d_static(q0, q1, pp, occ);
+        int o1 = vor__orient2d_static_n(q0, q1, pp, occ, &w->exact);
+        tests++;
         if (o1 < 0) {
             f = (uint32_t)adj[e1];
             continue;
         }
-        int o2 = vor__orient2d_static(q2, q3, pp, occ);
+        int o2 = vor__orient2d_static_n(q2, q3, pp, occ, &w->exact);
+        tests++;
         if (o2 < 0) {
             f = (uint32_t)adj[e2];
             continue;
@@ -237,19 +252,22 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
         t = f / 3;
         w->tri = t;
         w->rng = rng;
+        w->steps += steps;
+        w->orient2d += tests;
         *on_edge = o1 == 0 ? (int32_t)e1 : o2 == 0 ? (int32_t)e2 : -1;
         return t;
     }
 }
 
-vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order) {
+vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order,
+                               vor_counts *counts) {
     *order = NULL;
     if (s->n < 3)
         return VOR_EINVAL;
     uint32_t *o = vor__alloc_large(s->n, sizeof *o);
     if (!o)
         return VOR_ENOMEM;
-    vor_status r = vor__insertion_order(s->xy, s->n, o);
+    vor_status r = vor__insertion_order_counted(s->xy, s->n, o, counts);
     if (r != VOR_OK) {
         free(o);
         return r;
@@ -262,7 +280,9 @@ vor_status vor__mesh_build_ordered(const vor_sites *s,
                                    vor__mesh_build_fn build, uint32_t *order,
                                    vor__mesh *m) {
     double *xy;
-    vor_status r = build(s, order, m, &xy);
+    vor__run run;
+    memset(&run, 0, sizeof run);
+    vor_status r = build(s, order, m, &xy, &run);
     if (r != VOR_OK)
         return r;
     free(xy);
@@ -273,7 +293,7 @@ vor_status vor__mesh_build_ordered(const vor_sites *s,
 vor_status vor__mesh_build(const vor_sites *s, vor__mesh_build_fn build,
                            vor__mesh *m) {
     uint32_t *order;
-    vor_status r = vor__mesh_order_new(s, &order);
+    vor_status r = vor__mesh_order_new(s, &order, NULL);
     if (r == VOR_OK)
         r = vor__mesh_build_ordered(s, build, order, m);
     free(order);
@@ -288,7 +308,13 @@ double vor__span(const double *xy, size_t n) {
 }
 
 int vor__ghost_conflict(const double *a, const double *b, const double *p) {
-    int o = vor__orient2d_fast(a, b, p);
+    uint64_t unread = 0;
+    return vor__ghost_conflict_n(a, b, p, &unread);
+}
+
+int vor__ghost_conflict_n(const double *a, const double *b, const double *p,
+                          uint64_t *exact) {
+    int o = vor__orient2d_fast_n(a, b, p, exact);
     if (o != 0)
         return o > 0;
     /* On the line through a and b: inside the open segment? Exact, since
@@ -298,6 +324,23 @@ int vor__ghost_conflict(const double *a, const double *b, const double *p) {
                            : (b[0] < p[0] && p[0] < a[0]);
     return a[1] < b[1] ? (a[1] < p[1] && p[1] < b[1])
                        : (b[1] < p[1] && p[1] < a[1]);
+}
+
+void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
+                           size_t n, vor__run *run, const vor_counts *so_far) {
+    if (!run->trace)
+        return;
+    vor_step st;
+    vor__step_init(&st, VOR_STEP_ORDER);
+    st.order = order;
+    st.n_order = n;
+    st.counts = so_far;
+    run->trace(run->trace_ctx, &st);
+    vor__step_init(&st, VOR_STEP_BEGIN);
+    st.counts = so_far;
+    for (int k = 0; k < 3; k++)
+        st.tri[k] = order[m->tri[k]];
+    run->trace(run->trace_ctx, &st);
 }
 
 /* ---- Removing the ghosts -------------------------------------------------

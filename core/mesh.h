@@ -32,11 +32,15 @@
 /* Walk state kept between insertions: where the last point went (the next
  * one, close in insertion order, starts its walk there), the random bits
  * of the walk, and the static bounds (predicates.h) of orient2d and
- * incircle among the sites, for the walk and the construction's tests. */
+ * incircle among the sites, for the walk and the construction's tests.
+ * Also the construction's counts of predicate calls and walk steps
+ * (vor_counts): vor__mesh_begin and vor__mesh_locate add theirs, the
+ * algorithms theirs. */
 typedef struct vor__walk {
     uint32_t tri;
     uint32_t rng;
     double occ, icc;
+    uint64_t steps, orient2d, incircle, exact;
 } vor__walk;
 
 /* Non-zero if triangle t is a ghost. */
@@ -86,6 +90,10 @@ double vor__span(const double *xy, size_t n);
  * a->b (see the file comment): strictly left of a->b, or strictly inside
  * the segment ab. */
 int vor__ghost_conflict(const double *a, const double *b, const double *p);
+/* The same, adding 1 to *exact when its orientation test needed exact
+ * arithmetic (predicates.h). */
+int vor__ghost_conflict_n(const double *a, const double *b, const double *p,
+                          uint64_t *exact);
 
 /* Removes the ghost triangles and maps the local vertex ids back to site
  * indices through order: the finite twins of hull edges get adj -1 and the
@@ -96,10 +104,28 @@ void vor__mesh_finish(vor__mesh *m, const uint32_t *order);
 /* Builds the ghost-closed mesh of all sites in local ids, inserting them
  * in the given order (permuted as by vor__mesh_begin); on success *pxy is
  * the coordinates in insertion order (free with free()), on error nothing
- * is left allocated and m is empty. bowyer_watson.c and flip.c have one
- * each. */
+ * is left allocated and m is empty. Adds its counts to run->counts and
+ * reports its steps to run->trace (internal.h), the ORDER step included.
+ * bowyer_watson.c and flip.c have one each. */
 typedef vor_status (*vor__mesh_build_fn)(const vor_sites *s, uint32_t *order,
-                                         vor__mesh *m, double **pxy);
+                                         vor__mesh *m, double **pxy,
+                                         vor__run *run);
+
+/* The walk's counts added to run's (the end of a build). */
+static inline void vor__walk_count(const vor__walk *w, vor__run *run) {
+    run->counts.walk_steps += w->steps;
+    run->counts.orient2d += w->orient2d;
+    run->counts.incircle += w->incircle;
+    run->counts.exact += w->exact;
+}
+
+/* The ORDER and BEGIN steps of an incremental build, reported after
+ * vor__mesh_begin: order[0..n-1] (site indices, as permuted there) and
+ * the first triangle (local vertices 0, 1, 2 as the mesh's slot 0 holds
+ * them), with the counts so far, when run->trace is set. Cannot fail
+ * (mesh.c). */
+void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
+                           size_t n, vor__run *run, const vor_counts *so_far);
 
 /* The canonical Voronoi diagram read straight off a ghost-closed mesh, as
  * a vor__mesh_build_fn or Fortune's sweep leaves it (any numbering of
@@ -116,12 +142,13 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
  * (vor__insertion_order), the mesh from build, then vor__mesh_dual. Same
  * contract as a vor__algorithm_fn (mesh_dual.c). */
 vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
-                             vor_diagram **out);
+                             vor__run *run, vor_diagram **out);
 
 /* *order = a new array (free with free()) of the insertion order of the
- * sites (vor__insertion_order). VOR_EINVAL if n < 3, VOR_ENOMEM; on error
- * *order is NULL (mesh.c). */
-vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order);
+ * sites (vor__insertion_order), its work added to counts (may be NULL).
+ * VOR_EINVAL if n < 3, VOR_ENOMEM; on error *order is NULL (mesh.c). */
+vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order,
+                               vor_counts *counts);
 
 /* The finished (public form) mesh from build with the given insertion
  * order, as vor__bowyer_watson_mesh_ordered and vor__flip_mesh_ordered

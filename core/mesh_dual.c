@@ -731,14 +731,14 @@ done:
 }
 
 vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
-                             vor_diagram **out) {
+                             vor__run *run, vor_diagram **out) {
     vor__mesh m = {0};
     double *lxy = NULL;
     uint32_t *order;
     *out = NULL;
-    vor_status r = vor__mesh_order_new(s, &order);
+    vor_status r = vor__mesh_order_new(s, &order, &run->counts);
     if (r == VOR_OK)
-        r = build(s, order, &m, &lxy);
+        r = build(s, order, &m, &lxy, run);
     if (r != VOR_OK) {
         free(order);
         return r;

@@ -156,6 +156,227 @@ vor_status vor_compute(const vor_sites *sites, vor_algorithm algorithm,
                        vor_diagram **out);
 void vor_diagram_free(vor_diagram *d);
 
+/* ---- Operation counts --------------------------------------------------
+ * What an algorithm did, counted as it runs: deterministic for a given
+ * input (the same sites, in the same order, give the same counts on every
+ * run and machine), and cheap enough to be always on. One table: the
+ * count's name (also its key in the service's "counts" objects), the
+ * algorithms it applies to (VOR_IN_* bits; the others leave it 0) and
+ * what it counts. The counts cover building the Delaunay triangulation
+ * (for Fortune: the sweep) and the insertion order; the conversion to the
+ * diagram, which is the same for all three, is not counted. Input that no
+ * algorithm sees (fewer than three sites, or all of them on one line)
+ * counts nothing.
+ *
+ * "Ghost" triangles are those on the vertex at infinity that close the
+ * convex hull during construction (one per hull edge); the incremental
+ * algorithms create and remove them like the others, so they count. */
+#define VOR_IN_FORTUNE (1u << VOR_FORTUNE)
+#define VOR_IN_BOWYER_WATSON (1u << VOR_BOWYER_WATSON)
+#define VOR_IN_FLIP (1u << VOR_FLIP)
+#define VOR_IN_INCREMENTAL (VOR_IN_BOWYER_WATSON | VOR_IN_FLIP)
+#define VOR_IN_ALL (VOR_IN_FORTUNE | VOR_IN_INCREMENTAL)
+
+#define VOR_COUNTS_TABLE(X)                                                  \
+    X(orient2d, VOR_IN_INCREMENTAL,                                          \
+      "orientation tests: point location, the hull, the first triangle")    \
+    X(incircle, VOR_IN_INCREMENTAL,                                          \
+      "in-circle tests: the cavity search (Bowyer-Watson), the legality "    \
+      "of edges (flip)")                                                     \
+    X(exact, VOR_IN_ALL,                                                     \
+      "predicate calls that the inline floating-point filters could not "    \
+      "decide, handed to exact arithmetic (which first rescales and tries "  \
+      "once more in floating point)")                                        \
+    X(order_rounds, VOR_IN_INCREMENTAL,                                      \
+      "rounds of the biased randomised insertion order")                    \
+    X(order_refinements, VOR_IN_INCREMENTAL,                                 \
+      "crowded cells of the insertion order's grid ordered again on a "     \
+      "grid of their own")                                                   \
+    X(order_keys, VOR_IN_INCREMENTAL,                                        \
+      "Hilbert keys computed for the insertion order: one per site, plus "  \
+      "one per site of every refinement")                                    \
+    X(walk_steps, VOR_IN_INCREMENTAL,                                        \
+      "triangles crossed by point location")                                 \
+    X(triangles_created, VOR_IN_INCREMENTAL,                                 \
+      "triangles made, ghosts included: the first triangle and its three "  \
+      "ghosts, then the stars (Bowyer-Watson) or the splits and flips "     \
+      "(flip)")                                                              \
+    X(cavity_triangles, VOR_IN_BOWYER_WATSON,                                \
+      "triangles removed because their circumcircle contained the new "     \
+      "site, ghosts included")                                               \
+    X(flips, VOR_IN_FLIP, "edges flipped")                                   \
+    X(site_events, VOR_IN_FORTUNE,                                           \
+      "site events: one per distinct site, the first row included")          \
+    X(circle_events, VOR_IN_FORTUNE,                                         \
+      "circle events that happened (each removes an arc and makes a "       \
+      "Delaunay triangle)")                                                  \
+    X(false_alarms, VOR_IN_FORTUNE,                                          \
+      "circle events scheduled and cancelled before they happened")         \
+    X(breakpoint_hits, VOR_IN_FORTUNE,                                       \
+      "site events exactly below a breakpoint (each makes a Delaunay "      \
+      "triangle at once)")                                                   \
+    X(beach_max, VOR_IN_FORTUNE, "the most arcs on the beach line at once") \
+    X(breakpoint_tests, VOR_IN_FORTUNE,                                      \
+      "tests of a site against a breakpoint while locating its arc")         \
+    X(breakpoint_exact, VOR_IN_FORTUNE,                                      \
+      "breakpoint tests that needed exact arithmetic")                       \
+    X(circle_tops, VOR_IN_FORTUNE,                                           \
+      "triples of arcs tested for a circle event (orientation and the "     \
+      "interval of the circle's top)")                                       \
+    X(circle_top_exact, VOR_IN_FORTUNE,                                      \
+      "circle tests whose orientation or top floating point could not "     \
+      "settle")                                                              \
+    X(event_compares, VOR_IN_FORTUNE,                                        \
+      "comparisons of two events, or of an event and the next site, in "    \
+      "sweep order")                                                         \
+    X(event_exact, VOR_IN_FORTUNE,                                           \
+      "event comparisons that needed exact (integer) arithmetic")
+
+typedef struct vor_counts {
+#define VOR__COUNT_FIELD(name, algorithms, what) uint64_t name;
+    VOR_COUNTS_TABLE(VOR__COUNT_FIELD)
+#undef VOR__COUNT_FIELD
+} vor_counts;
+
+/* Number of counts in the table. */
+#define VOR_COUNT_FIELDS (sizeof(vor_counts) / sizeof(uint64_t))
+
+/* The i-th count of the table (i < VOR_COUNT_FIELDS): its name
+ * ("orient2d"), what it counts, the VOR_IN_* bits of the algorithms it
+ * applies to, and its value in c. NULL / 0 for i out of range. */
+const char *vor_count_name(size_t i);
+const char *vor_count_what(size_t i);
+unsigned vor_count_algorithms(size_t i);
+uint64_t vor_count_value(const vor_counts *c, size_t i);
+
+/* ---- Trace of an algorithm's steps ----------------------------------------
+ * With a trace hook, the algorithm reports its steps as it takes them, in
+ * order; replaying them rebuilds its Delaunay triangulation exactly, and
+ * hence (through the same conversion) the returned diagram. The hook
+ * never changes a decision; without one the only cost is a branch per
+ * site or event. Every site number is a site index (vor_sites); in a
+ * triangle, VOR_INFINITE stands for the vertex at infinity (a ghost
+ * triangle (a, b, VOR_INFINITE) is the outside of the hull edge b->a).
+ * Triangles are counter-clockwise triples; arrays are borrowed for the
+ * call only.
+ *
+ * Steps (fields not named are 0, NULL or VOR_INFINITE):
+ *
+ *   ORDER     every algorithm, first: order[0..n_order-1], the sites in
+ *             the order the algorithm takes them (the insertion order, or
+ *             Fortune's sweep order, by y then x).
+ *   BEGIN     Bowyer-Watson, flip: tri, the first triangle (order[0..2]);
+ *             its three ghosts close the hull. Fortune: the first row,
+ *             the sites of the lowest y left to right, as the beach line
+ *             (beach, n_beach), at sweep position y.
+ *   INSERT    Bowyer-Watson, flip: site, inserted; tri, the triangle
+ *             where point location ended (a ghost when the site is
+ *             outside the hull); cavity (n_cavity triangles, 3 site
+ *             numbers each), the triangles removed, and star (n_star
+ *             triangles), those made, each with the site as its third
+ *             vertex. Bowyer-Watson's cavity is every triangle whose
+ *             circumcircle contains the site; flip's is the triangle
+ *             split (split VOR_SPLIT_TRIANGLE), the two triangles of the
+ *             edge the site lies on (VOR_SPLIT_EDGE, edge = its ends) or
+ *             the ghosts of the hull edges the site sees (VOR_SPLIT_HULL).
+ *   FLIP      flip, after its INSERT: tri = (a, b, p), p the site being
+ *             inserted, whose circumcircle strictly contains the vertex d
+ *             across edge a-b; edge = (a, b), removed; added = (p, d).
+ *             Triangles (a, b, p) and (b, a, d) become (a, d, p) and
+ *             (d, b, p).
+ *   SITE      Fortune: site, at sweep position y (its y). Either its arc
+ *             splits the arc of site arc (the new arc at position at of
+ *             the beach line after, between two arcs of that site), or it
+ *             lies exactly below the breakpoint of the arcs of
+ *             breakpoint[0], breakpoint[1] (then arc is VOR_INFINITE, the
+ *             new arc at position at goes between them, and tri = the
+ *             Delaunay triangle (left, right, site) with its circumcentre
+ *             vertex). beach: the beach line after the event.
+ *   CIRCLE    Fortune: the arc at position at (of the beach line before)
+ *             vanishes at sweep position y (the top of the circle, as a
+ *             double); tri, the arcs' sites left to right, is the Delaunay
+ *             triangle made, vertex its circumcentre; beach: after.
+ *   SCHEDULE  Fortune: a circle event for the arcs tri (left to right) at
+ *   CANCEL    y, the top of the circle around vertex; or that event
+ *             cancelled because the arc's triple changed. A CIRCLE step
+ *             consumes the scheduled event of its triple; live events have
+ *             distinct triples.
+ *   END       every algorithm, last: the triangulation is complete.
+ *
+ * Every step carries counts, the run's counts so far, the step's own work
+ * included (the END step's are the run's final counts); so a replay can
+ * show them growing.
+ *
+ * y and vertex are computed in doubles from the input coordinates
+ * (vor_circumcenter of the three sites in increasing index order, as the
+ * diagram's vertices), for drawing; they may be inf or nan when the circle
+ * overflows, and play no part in the algorithm's exact decisions. */
+#define VOR_INFINITE UINT32_MAX
+
+typedef enum vor_step_kind {
+    VOR_STEP_ORDER,
+    VOR_STEP_BEGIN,
+    VOR_STEP_INSERT,
+    VOR_STEP_FLIP,
+    VOR_STEP_SITE,
+    VOR_STEP_CIRCLE,
+    VOR_STEP_SCHEDULE,
+    VOR_STEP_CANCEL,
+    VOR_STEP_END,
+    VOR_STEP_KIND_COUNT
+} vor_step_kind;
+
+typedef enum vor_split {
+    VOR_SPLIT_NONE,     /* Bowyer-Watson */
+    VOR_SPLIT_TRIANGLE, /* flip: strictly inside a triangle, 1 -> 3 */
+    VOR_SPLIT_EDGE,     /* flip: on an edge, 2 -> 4 */
+    VOR_SPLIT_HULL      /* flip: outside the hull */
+} vor_split;
+
+typedef struct vor_step {
+    vor_step_kind kind;
+    uint32_t site;
+    uint32_t tri[3];
+    uint32_t edge[2];
+    uint32_t added[2];
+    uint32_t arc;
+    uint32_t breakpoint[2];
+    uint32_t at;
+    vor_split split;
+    double y;
+    double vertex[2];
+    const uint32_t *order;
+    size_t n_order;
+    const uint32_t *beach;
+    size_t n_beach;
+    const uint32_t *cavity; /* 3 * n_cavity */
+    size_t n_cavity;
+    const uint32_t *star;   /* 3 * n_star */
+    size_t n_star;
+    const vor_counts *counts;
+} vor_step;
+
+/* "order", "begin", "insert", "flip", "site", "circle", "schedule",
+ * "cancel", "end"; "?" out of range. */
+const char *vor_step_kind_name(vor_step_kind k);
+/* "", "triangle", "edge", "hull". */
+const char *vor_split_name(vor_split s);
+
+typedef void (*vor_trace_fn)(void *ctx, const vor_step *step);
+
+typedef struct vor_options {
+    vor_counts *counts; /* filled when not NULL (zeroed first) */
+    vor_trace_fn trace; /* called for every step when not NULL */
+    void *trace_ctx;    /* its first argument */
+} vor_options;
+
+/* vor_compute with options: opt (may be NULL) asks for the counts and a
+ * trace. The diagram is the same as vor_compute's, bit for bit. On error
+ * the counts and the steps traced so far describe the work done until
+ * then. */
+vor_status vor_compute_ex(const vor_sites *sites, vor_algorithm algorithm,
+                          const vor_options *opt, vor_diagram **out);
+
 /* Non-zero when the two diagrams are identical in every field, bit for bit
  * (vertex coordinates included). */
 int vor_diagram_equal(const vor_diagram *p, const vor_diagram *q);
