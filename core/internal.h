@@ -12,7 +12,7 @@
  *      its triangles as vertex events), which vor__mesh_dual() (mesh.h)
  *      reads the diagram off. vor__diagram_build() alone defines the
  *      canonical form: vor__mesh_dual() produces the same bits without its
- *      sorting, and falls back to it when sites are cocircular.
+ *      sorting, cocircular sites included.
  */
 #ifndef VOR_INTERNAL_H
 #define VOR_INTERNAL_H
