@@ -221,8 +221,9 @@ static void test_high_degree(void **state) {
 
 /* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
  * the fast path (300 sites; 40 sites, whose scratch lives in
- * vor__mesh_dual's frame) and on the merged pass for cocircular sites: VOR_ENOMEM, *out
- * NULL, nothing leaks (LeakSanitizer at exit); then the call succeeds. */
+ * vor__mesh_dual's frame) and on the merged pass for cocircular sites:
+ * VOR_ENOMEM, *out NULL, nothing leaks (LeakSanitizer at exit); then the
+ * call succeeds. */
 static void test_allocation_failures(void **state) {
     (void)state;
     double *u = vt_uniform(300, 3);
