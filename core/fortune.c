@@ -156,6 +156,7 @@ typedef struct sweep {
     double *xy;     /* 2n, sorted by (y, x), rescaled */
     uint32_t *orig; /* n: site index of each sorted site */
     int safe;       /* coordinates in the filters' range */
+    int lattice;    /* few bits per coordinate: equal tops are common */
 
     arc *arcs;
     uint8_t *red;    /* colour of each arc */
@@ -551,17 +552,30 @@ done:
  * whether the scaled coordinates satisfy the filters' range condition
  * (every coordinate 0 or in [2^-250, 2), hence every nonzero difference in
  * [2^-302, 4]). */
-static double choose_scale(const vor_sites *s, int *safe) {
+static double choose_scale(const vor_sites *s, int *safe, int *lattice) {
     double mx = 0, mn = INFINITY;
+    int lowest = INT32_MAX;
     for (size_t j = 0; j < 2 * s->n; j++) {
         double v = fabs(s->xy[j]);
         if (v > mx) mx = v;
         if (v != 0 && v < mn) mn = v;
+        uint64_t u;
+        memcpy(&u, &v, sizeof u);
+        if (v != 0) { /* the exponent of v's lowest set bit */
+            int ex = (int)(u >> 52);
+            uint64_t m = (u & 0xfffffffffffffull) | (ex ? 0x10000000000000ull : 0);
+            int lb = (ex ? ex : 1) - 1075 + __builtin_ctzll(m);
+            lowest = lb < lowest ? lb : lowest;
+        }
     }
     *safe = 0;
+    *lattice = 0;
     if (mx == 0) return 1.0;
     int e;
     (void)frexp(mx, &e); /* mx = f 2^e, f in [0.5, 1) */
+    /* a small lattice: every coordinate a multiple of 2^lowest below 2^e,
+     * e - lowest <= 26 bits (pixels, grids, small integers) */
+    *lattice = e - lowest <= 26;
     double scale = ldexp(1.0, 1 - e > 1023 ? 1023 : 1 - e);
     if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) scale = 1.0;
     double smx = mx * scale, smn = mn * scale;
@@ -1073,7 +1087,13 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
  * rest. Events at the same point are ordered by record index (any fixed
  * order would do). */
 static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
-    const double *e1, *e2;
+    const double *e1, *e2, *d1, *d2;
+    /* Off a lattice, equal tops are rare and nearly equal ones the rule
+     * (sites on a circle): the double-double bounds first */
+    if (!w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+        int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
+        if (c != 0) return c < 0;
+    }
     if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) && e1[1] == e2[1] &&
         e1[2] == e2[2])
         return e1[0] != e2[0] ? e1[0] < e2[0] : r1 < r2;
@@ -1084,8 +1104,7 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
                  *c2 = site_xy(w, t2[2]);
     if (vor__fortune_translated(a1, b1, c1, a2, b2, c2))
         return a1[0] != a2[0] ? a1[0] < a2[0] : r1 < r2;
-    const double *d1, *d2;
-    if (event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+    if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
         int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
         if (c != 0) return c < 0;
     }
@@ -1635,7 +1654,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.run = run;
     w.s = s;
     vor_status st;
-    double scale = choose_scale(s, &w.safe);
+    double scale = choose_scale(s, &w.safe, &w.lattice);
     /* 2n triangles' room, of which the mesh uses 2n - 2 (Euler, ghosts
      * included): 24n bytes each for tri and adj, the room of n keyed
      * sites, which the sort borrows first */

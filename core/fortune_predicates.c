@@ -466,6 +466,7 @@ static inline dd dd_sqrt(dd x) {
     return fast_two_sum(r0, e.hi / (2 * r0));
 }
 
+VOR__FMA_CLONES
 int vor__fortune_circle_top_dd(const double *a, const double *b,
                                const double *c, double *top_hi, double *top_lo,
                                double *err) {
@@ -549,6 +550,7 @@ static inline int exact_add(double a, double b, double *s) {
     return t.lo == 0;
 }
 
+VOR__FMA_CLONES
 int vor__fortune_circle_exact_double(const double *a, const double *b,
                                      const double *c, double *out) {
     double bx, by, cx, cy, p, q, d, b2, c2, nx, ny, ux, uy, x, y, r2, s, t;

@@ -12,12 +12,35 @@
  *      its triangles as vertex events), which vor__mesh_dual() (mesh.h)
  *      reads the diagram off. vor__diagram_build() alone defines the
  *      canonical form: vor__mesh_dual() produces the same bits without its
- *      sorting, and falls back to it when sites are cocircular.
+ *      sorting, cocircular sites included.
  */
 #ifndef VOR_INTERNAL_H
 #define VOR_INTERNAL_H
 
 #include "vor.h"
+
+/* ---- Fused multiply-add ----------------------------------------------------
+ * The error-free product of two doubles and the double-double arithmetic
+ * of the predicates' second stages are built on fma(). x86-64's baseline
+ * has no FMA instruction, so fma() is a call into the C library, a few
+ * nanoseconds each, dozens per evaluation. VOR__FMA_CLONES on such a
+ * function makes GCC and Clang compile it twice, with and without the
+ * instruction, and pick once at load time for the machine it runs on
+ * (an ifunc); elsewhere it is empty. Results are bit-identical either
+ * way: fma() is correctly rounded by definition. */
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define VOR__SANITIZED 1 /* ifunc resolvers run before the sanitizers */
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define VOR__SANITIZED 1
+#endif
+#endif
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__) && \
+    !defined(VOR__SANITIZED) && !defined(VOR_NO_FMA_CLONES)
+#define VOR__FMA_CLONES __attribute__((target_clones("fma", "default")))
+#else
+#define VOR__FMA_CLONES
+#endif
 
 /* ---- Exact predicates (core/predicates.c) --------------------------------
  * Exact for all finite double inputs: a floating-point filter answers when

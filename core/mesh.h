@@ -131,7 +131,7 @@ void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
  * a vor__mesh_build_fn or Fortune's sweep leaves it (any numbering of
  * vertices and triangles): vertex v is site order[v], at lxy[2v]
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
- * mesh, which it falls back to when sites are cocircular. Consumes m
+ * mesh, cocircular sites included. Consumes m
  * (cleared), lxy and order (freed), also on error; on error *out is NULL.
  * O(n) for sites of bounded degree; at its peak about 157 bytes per site,
  * the result included (mesh_dual.c). */

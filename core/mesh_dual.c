@@ -57,14 +57,16 @@
  *
  * Cocircular sites. A vertex of four or more sites is one circle, which
  * the per-triangle records cannot express, so the first exactly
- * cocircular edge ends the fast path: the adj entries stashed so far are
- * restored (each pair of twins has one half-edge from the earlier to the
- * later visited vertex, whose adj was never touched), the mesh is
- * finished, and vor__mesh_to_diagram merges the triangles that share a
- * circle and builds the diagram through vor__diagram_build. Input with
- * cocircular sites (grids, integer pixels) therefore costs what it did
- * before this path existed, plus the records pass up to the first such
- * edge (usually a few sites).
+ * cocircular edge stops the records pass: the adj entries stashed so far
+ * are restored (each pair of twins has one half-edge from the earlier to
+ * the later visited vertex, whose adj was never touched), every diagonal
+ * of a cocircular polygon is marked and the polygon's triangles joined
+ * (see "cocircular sites" below), and the passes run again with the
+ * diagonals left out and each polygon standing for one vertex. Grids,
+ * integer pixels and points on a circle thus take this path at the cost
+ * of one more pass over the edges; the generic builder of diagram.c
+ * (vor__mesh_to_diagram), which it replaced for such input, stays the
+ * definition the tests compare against.
  *
  * Cost: O(n) passes for sites of bounded degree, O(k log k) for a site of
  * degree k. Measured on uniform sites: about 47% of Bowyer-Watson's
@@ -145,10 +147,22 @@ typedef struct dual {
     /* outl, vid and count's degrees are in the caller's frame (small):
      * never freed */
     uint32_t *small;
+    /* cocircular sites (see "cocircular sites"), all NULL without them:
+     * a bit per half-edge set on the diagonals of cocircular polygons;
+     * per triangle, its polygon's representative triangle; per
+     * representative, the polygon's three smallest sites */
+    uint8_t *cc;
+    uint32_t *root;
+    uint32_t *min3;
+    size_t n_poly; /* finite polygons (vertices of the diagram) */
     /* the result being written, and how far */
     vor_diagram *d;
     size_t nv, ne, nr;
 } dual;
+
+static inline int is_cc(const uint8_t *cc, uint32_t e) {
+    return (cc[e >> 3] >> (e & 7)) & 1;
+}
 
 /* Every array here is big enough to want huge pages (internal.h). */
 static void *xmalloc(size_t count, size_t size) {
@@ -268,7 +282,9 @@ static int build_records(dual *D) {
      * where its walk is, and the vertices still walking */
     uint32_t fan[BLOCK][BLOCK_FAN], fanw[BLOCK][BLOCK_FAN], cur[BLOCK];
     uint8_t fdeg[BLOCK], act[BLOCK];
-    const double icc = vor__incircle_static_bound(vor__span(lxy, n));
+    const uint8_t *cc = D->cc;
+    const uint32_t *root = D->root;
+    const double icc = cc ? 0 : vor__incircle_static_bound(vor__span(lxy, n));
 
     for (size_t v = 0; v < n; v++) {
         const size_t j = v % BLOCK;
@@ -337,12 +353,20 @@ static int build_records(dual *D) {
         }
         const double *pv = XY(v);
 
-        /* interior edges to vertices visited later: not cocircular? */
+        /* interior edges to vertices visited later: not cocircular?
+         * (once they are marked, the diagonals are left out instead) */
         size_t ghost = deg, start = 0;
         uint32_t least = UINT32_MAX;
         for (size_t k = 0; k < deg; k++) {
             if (wl[k] == VOR__GHOST) {
                 ghost = k;
+                continue;
+            }
+            if (cc) {
+                if (!is_cc(cc, he[k]) && ws[k] < least) {
+                    least = ws[k];
+                    start = k;
+                }
                 continue;
             }
             if (ws[k] < least) {
@@ -367,9 +391,9 @@ static int build_records(dual *D) {
         const uint32_t si = order[v];
         uint32_t p = cs[si];
         for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
-            if (k == ghost) continue;
+            if (k == ghost || (cc && is_cc(cc, he[k]))) continue;
             const uint32_t x = (uint32_t)adj[he[k]];
-            rwt[p] = (uint64_t)ws[k] << 32 | he[k] / 3;
+            rwt[p] = (uint64_t)ws[k] << 32 | (root ? root[he[k] / 3] : he[k] / 3);
             rx[p] = x;
             if (wl[k] > v)
                 adj[x] = (int32_t)p;
@@ -395,6 +419,7 @@ static int sweep_records(dual *D) {
     const uint32_t *cs = d->cell_start;
     uint32_t *rx = d->cell_edges, *vsites = d->vertex_sites, *esites = d->edge_sites;
     int32_t *eends = d->edge_ends;
+    const uint32_t *min3 = D->min3;
     size_t nv = 0, ne = 0, nr = 0;
 #define RW(p) ((uint32_t)(rwt[p] >> 32))
 #define RT(p) ((uint32_t)rwt[p])
@@ -423,8 +448,16 @@ static int sweep_records(dual *D) {
             else {
                 ku[nu].key = a;
                 ku[nu++].slot = p - lo;
-                if (b > si && t != GHOST_T) {
-                    ko[no].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+                if (!min3) {
+                    if (b > si && t != GHOST_T) {
+                        ko[no].key = a < b ? (uint64_t)a << 32 | b
+                                           : (uint64_t)b << 32 | a;
+                        ko[no++].slot = p - lo;
+                    }
+                } else if (t != GHOST_T && min3[3 * (size_t)t] == si) {
+                    /* a polygon's owner is its smallest site */
+                    ko[no].key = (uint64_t)min3[3 * (size_t)t + 1] << 32 |
+                                 min3[3 * (size_t)t + 2];
                     ko[no++].slot = p - lo;
                 }
             }
@@ -523,10 +556,98 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
 }
 
 /* ---- cocircular sites ------------------------------------------------------
- * The records cannot express a vertex of four or more sites: at the first
- * cocircular edge the mesh is put back as the construction left it and
- * finished, and vor__mesh_to_diagram (diagram.c) merges its cocircular
- * triangles and builds the diagram through vor__diagram_build. */
+ * Four or more cocircular sites make one vertex, which the per-triangle
+ * records cannot express. At the first cocircular edge build_records
+ * stops; the mesh is put back as the construction left it (restore_adj),
+ * and merge_prepare marks every diagonal of a cocircular polygon (an
+ * interior edge whose two triangles share a circumcircle, exactly), joins
+ * the triangles of each polygon under one representative (union-find, the
+ * smallest triangle id), and notes each polygon's three smallest sites.
+ * Then the same passes run again with the diagonals left out of the
+ * degrees, the fans and the records, with each slot's triangle replaced
+ * by its polygon's representative, and with a polygon owned by its
+ * smallest site and keyed by the next two: a diagonal is no Voronoi edge
+ * (its length is zero), and the polygon is one vertex, whose defining
+ * sites are its three smallest. */
+
+static int count(dual *D);
+
+static uint32_t uf_find(uint32_t *root, uint32_t t) {
+    while (root[t] != t) {
+        root[t] = root[root[t]]; /* path halving */
+        t = root[t];
+    }
+    return t;
+}
+
+/* Adds site s to the (at most three, increasing, UINT32_MAX-padded)
+ * smallest sites in m, unless it is there. */
+static void min3_add(uint32_t *m, uint32_t s) {
+    if (s == m[0] || s == m[1] || s == m[2]) return;
+    if (s < m[0]) {
+        m[2] = m[1];
+        m[1] = m[0];
+        m[0] = s;
+    } else if (s < m[1]) {
+        m[2] = m[1];
+        m[1] = s;
+    } else if (s < m[2]) {
+        m[2] = s;
+    }
+}
+
+/* See above. Recounts the cells (count) without the diagonals. PASS_OK,
+ * PASS_NOMEM, or PASS_BROKEN if an edge is not locally Delaunay. */
+static int merge_prepare(dual *D) {
+    const size_t T = D->T, n = D->n;
+    const uint32_t *tri = D->tri, *order = D->order;
+    const int32_t *adj = D->adj;
+    const double *lxy = D->lxy;
+    D->cc = calloc((3 * T + 7) / 8, 1);
+    D->root = xmalloc(T, sizeof *D->root);
+    if (!D->cc || !D->root) return PASS_NOMEM;
+    uint8_t *cc = D->cc;
+    uint32_t *root = D->root;
+    for (size_t t = 0; t < T; t++) root[t] = (uint32_t)t;
+    const double icc = vor__incircle_static_bound(vor__span(lxy, n));
+    for (uint32_t e = 0; e < 3 * T; e++) {
+        const uint32_t f = (uint32_t)adj[e];
+        if (f < e) continue; /* each edge once */
+        const uint32_t a = tri[e], b = tri[vor__next(e)], c = tri[vor__prev(e)],
+                       d = tri[vor__prev(f)];
+        if (((a | b | c | d) >> 30) != 0) continue; /* a ghost: hull edge */
+        int ic = vor__incircle_static(XY(a), XY(b), XY(c), XY(d), icc);
+        if (ic > 0) return PASS_BROKEN;
+        if (ic < 0) continue;
+        cc[e >> 3] |= (uint8_t)(1u << (e & 7));
+        cc[f >> 3] |= (uint8_t)(1u << (f & 7));
+        uint32_t x = uf_find(root, e / 3), y = uf_find(root, f / 3);
+        if (x < y)
+            root[y] = x;
+        else if (y < x)
+            root[x] = y;
+    }
+    /* flatten, count the finite polygons, note their smallest sites */
+    D->min3 = xmalloc(3 * T, sizeof *D->min3);
+    if (!D->min3) return PASS_NOMEM;
+    uint32_t *min3 = D->min3;
+    size_t np = 0;
+    for (size_t t = 0; t < T; t++) {
+        const uint32_t r = root[t] = uf_find(root, (uint32_t)t);
+        const uint32_t *v = tri + 3 * t;
+        if (((v[0] | v[1] | v[2]) >> 30) != 0) continue; /* ghost */
+        uint32_t *m = min3 + 3 * (size_t)r;
+        if (r == t) {
+            np++;
+            m[0] = m[1] = m[2] = UINT32_MAX;
+        }
+        min3_add(m, order[v[0]]);
+        min3_add(m, order[v[1]]);
+        min3_add(m, order[v[2]]);
+    }
+    D->n_poly = np;
+    return count(D);
+}
 
 /* Puts back the adj entries build_records overwrote: each pair of twins
  * has one half-edge from the earlier to the later visited vertex, whose
@@ -549,6 +670,7 @@ static void restore_adj(dual *D) {
 static int count(dual *D) {
     const size_t n = D->n, T = D->T;
     const uint32_t *tri = D->tri, *order = D->order;
+    const uint8_t *cc = D->cc;
     uint32_t *cs = D->d->cell_start, *outl = D->outl;
     uint32_t *deg; /* per local vertex */
     if (D->small) {
@@ -564,6 +686,12 @@ static int count(dual *D) {
             outl[v[0]] = 3 * (uint32_t)t;
             outl[v[1]] = 3 * (uint32_t)t + 1;
             outl[v[2]] = 3 * (uint32_t)t + 2;
+            if (cc) { /* the diagonals of cocircular polygons are no edges */
+                deg[v[0]] += !is_cc(cc, 3 * (uint32_t)t);
+                deg[v[1]] += !is_cc(cc, 3 * (uint32_t)t + 1);
+                deg[v[2]] += !is_cc(cc, 3 * (uint32_t)t + 2);
+                continue;
+            }
             deg[v[0]]++;
             deg[v[1]]++;
             deg[v[2]]++;
@@ -648,15 +776,23 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     d->n_sites = n;
     d->cell_start = xmalloc(n + 1, sizeof *d->cell_start);
     if (!d->cell_start || count(&D) != PASS_OK) goto done;
-    const size_t nc = d->cell_start[n];
-    /* without cocircular sites: a vertex per finite triangle, an edge per
-     * pair of finite twins, a ray per hull edge */
-    const size_t nvmax = T - D.h, nemax = nc / 2, nrmax = D.h;
-
-    d->cell_edges = xmalloc(nc, sizeof *d->cell_edges);
-    D.rwt = xmalloc(nc, sizeof *D.rwt);
+    d->cell_edges = xmalloc(d->cell_start[n], sizeof *d->cell_edges);
+    D.rwt = xmalloc(d->cell_start[n], sizeof *D.rwt);
     if (!d->cell_edges || !D.rwt) goto done;
     r = build_records(&D);
+    if (r == PASS_COCIRCULAR) { /* again, with the polygons merged */
+        restore_adj(&D);
+        r = merge_prepare(&D);
+        if (r == PASS_OK) r = build_records(&D);
+        free(D.cc);
+        free(D.root);
+        D.cc = NULL;
+        D.root = NULL;
+    }
+    /* a vertex per finite polygon (triangle, without cocircular sites), an
+     * edge per pair of finite twins, a ray per hull edge */
+    const size_t nvmax = D.min3 ? D.n_poly : T - D.h,
+                 nemax = d->cell_start[n] / 2, nrmax = D.h;
     if (r == PASS_OK) {
         /* the mesh is no longer needed: its arrays become vid and the
          * vertex sites */
@@ -682,19 +818,6 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         if (alloc_result(&D, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
-    } else if (r == PASS_COCIRCULAR) {
-        restore_adj(&D);
-        vor_diagram_free(d);
-        D.d = NULL;
-        if (!D.small) free(D.outl);
-        free(D.rwt);
-        D.outl = NULL;
-        D.rwt = NULL;
-        free(lxy);
-        lxy = NULL;
-        vor__mesh_finish(m, order);
-        st = vor__mesh_to_diagram(s, m, out);
-        goto done;
     }
     if (r != PASS_OK) {
         st = status_of(r);
@@ -702,6 +825,8 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     }
     if (!D.small) free(D.vid);
     D.vid = NULL;
+    free(D.min3);
+    D.min3 = NULL;
     vor__mesh_clear(m);
     free(lxy);
     lxy = NULL;
@@ -724,6 +849,9 @@ done:
     }
     free(D.rwt);
     free(D.heap);
+    free(D.cc);
+    free(D.root);
+    free(D.min3);
     vor__mesh_clear(m);
     free(lxy);
     free(order);

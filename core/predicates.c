@@ -137,6 +137,7 @@ static int exp_sum(int elen, const double *e, int flen, const double *f,
 }
 
 /* h = e * b. h (room for 2 elen) must not alias e. Returns its length. */
+VOR__FMA_CLONES
 static int exp_scale(int elen, const double *e, double b, double *h) {
     if (elen == 0 || b == 0)
         return 0;
@@ -251,6 +252,10 @@ static int operand_range(const double *v, int n, int *hi, int *lo) {
     }
     return any;
 }
+
+/* The larger of two non-negative, non-nan values (fmax() is a call into
+ * the C library on x86-64, and it handles nans we do not have). */
+static inline double max2(double a, double b) { return a > b ? a : b; }
 
 /* 2^e as a double, for -1022 <= e <= 1023. */
 static double pow2(int e) {
@@ -465,6 +470,7 @@ static int orient2d_expansion(const double *a, const double *b,
     return exp_sum(nl, l, nr, r, det);
 }
 
+VOR__FMA_CLONES
 int vor__orient2d_exact(const double *a, const double *b, const double *c) {
     /* Products with an exactly zero factor (axis-parallel, shared points)
      * are common in grid-like input and need no arithmetic: differences of
@@ -503,7 +509,7 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
      * and their difference are exact in doubles. */
     double dx0 = sa[0] - sc[0], dy0 = sa[1] - sc[1];
     double dx1 = sb[0] - sc[0], dy1 = sb[1] - sc[1];
-    double dmax = fmax(fmax(fabs(dx0), fabs(dy0)), fmax(fabs(dx1), fabs(dy1)));
+    double dmax = max2(max2(fabs(dx0), fabs(dy0)), max2(fabs(dx1), fabs(dy1)));
     if (dmax < pow2(lo + s + 26)) {
         double det = dx0 * dy1 - dy0 * dx1;
         return (det > 0) - (det < 0);
@@ -625,6 +631,7 @@ static inline dd dd_neg(dd x) { return (dd){-x.hi, -x.lo}; }
 
 /* Sign of incircle(a, b, c, d) for points in stage 2's window, or 0 when
  * the double-double evaluation cannot prove it. */
+VOR__FMA_CLONES
 static int incircle_dd(const double *a, const double *b, const double *c,
                        const double *d) {
     dd ax = dd_sub_exact(a[0], d[0]), ay = dd_sub_exact(a[1], d[1]);
@@ -648,6 +655,7 @@ static int incircle_dd(const double *a, const double *b, const double *c,
     return (det.hi > bound) - (det.hi < -bound);
 }
 
+VOR__FMA_CLONES
 int vor__incircle_exact(const double *a, const double *b, const double *c,
                         const double *d) {
     double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]};
@@ -676,9 +684,9 @@ int vor__incircle_exact(const double *a, const double *b, const double *c,
         double adx = sa[0] - sd[0], ady = sa[1] - sd[1];
         double bdx = sb[0] - sd[0], bdy = sb[1] - sd[1];
         double cdx = sc[0] - sd[0], cdy = sc[1] - sd[1];
-        double dmax = fmax(fmax(fmax(fabs(adx), fabs(ady)),
-                                fmax(fabs(bdx), fabs(bdy))),
-                           fmax(fabs(cdx), fabs(cdy)));
+        double dmax = max2(max2(max2(fabs(adx), fabs(ady)),
+                                max2(fabs(bdx), fabs(bdy))),
+                           max2(fabs(cdx), fabs(cdy)));
         if (dmax < pow2(lo + s + 12)) {
             double det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) +
                          (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +

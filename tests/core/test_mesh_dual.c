@@ -6,8 +6,9 @@
  * vor__mesh_to_diagram, which goes through vor__diagram_build, must give a
  * bit-identical diagram, and vor_check must accept it. Sets: every standard
  * set, random uniform, gaussian and clustered sets of many sizes, sets with
- * a cocircular square that the sweep meets late or early (the fallback
- * that restores the mesh and merges cocircular triangles), fans of more
+ * a cocircular square that the records pass meets late or early (the
+ * second pass that restores the mesh and merges cocircular triangles into
+ * polygons), fans of more
  * sites than the walks and small sorts handle inline, and every allocation
  * failing in turn on both paths. Seeds are fixed and printed.
  */
@@ -137,10 +138,11 @@ static void test_random_sets(void **state) {
 }
 
 /* A unit square far from the uniform points is one Voronoi vertex of four
- * sites, so the sweep must fall back; where it meets the square (late or
- * early) depends on the insertion order, so many seeds and both ends of
- * the site order are tried. Integer pixels (many cocircular quadruples,
- * duplicates) and a grid complete the fallback's sets. */
+ * sites, so the records pass must start again with the polygons merged;
+ * where it meets the square (late or early) depends on the insertion
+ * order, so many seeds and both ends of the site order are tried. Integer
+ * pixels (many cocircular quadruples, duplicates) and a grid complete the
+ * merged pass's sets. */
 static void test_cocircular(void **state) {
     (void)state;
     const uint64_t seed0 = 777;
@@ -219,15 +221,16 @@ static void test_high_degree(void **state) {
 
 /* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
  * the fast path (300 sites; 40 sites, whose scratch lives in
- * vor__mesh_dual's frame) and on the cocircular fallback: VOR_ENOMEM, *out
- * NULL, nothing leaks (LeakSanitizer at exit); then the call succeeds. */
+ * vor__mesh_dual's frame) and on the merged pass for cocircular sites:
+ * VOR_ENOMEM, *out NULL, nothing leaks (LeakSanitizer at exit); then the
+ * call succeeds. */
 static void test_allocation_failures(void **state) {
     (void)state;
     double *u = vt_uniform(300, 3);
     double *g = vt_grid(12, 9);
     double *v = vt_uniform(40, 4);
     vor_sites *sets[3] = {sites_of(u, 300), sites_of(g, 108), sites_of(v, 40)};
-    static const char *const set_names[3] = {"uniform", "grid (fallback)",
+    static const char *const set_names[3] = {"uniform", "grid (merged pass)",
                                              "small uniform"};
     free(u);
     free(g);
