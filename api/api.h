@@ -122,8 +122,9 @@ enum {
     API_PART_CELLS = 1u << 3,
     API_PART_TRIANGLES = 1u << 4,
     API_PART_CLIPPED = 1u << 5, /* clipped edges and cell polygons */
+    API_PART_COUNTS = 1u << 6,  /* the algorithm's operation counts */
     API_PART_DEFAULT = API_PART_VERTICES | API_PART_EDGES | API_PART_CELLS,
-    API_PART_ALL = (1u << 6) - 1
+    API_PART_ALL = (1u << 7) - 1
 };
 /* When the parts were not chosen explicitly (parts_given == 0), bounds add
  * API_PART_CLIPPED. "clipped" without bounds clips to the default box: the
@@ -133,6 +134,11 @@ enum {
 typedef struct api_limits {
     size_t max_points; /* input or generated points */
 } api_limits;
+
+/* Most points a request may ask to trace ("trace": true): a trace has a
+ * few steps per site, each a small object, so a traced answer of this
+ * many points stays within a few megabytes of JSON. */
+#define API_TRACE_MAX_POINTS 2000
 
 typedef struct api_request {
     vor_algorithm algorithm;
@@ -144,6 +150,7 @@ typedef struct api_request {
     double *xy;      /* 2 * n, owned */
     size_t n;
     int generated;   /* points came from a "generate" request */
+    int trace;       /* report the algorithm's steps (JSON only) */
 } api_request;
 
 void api_request_init(api_request *r); /* fortune, default parts, JSON */
@@ -172,7 +179,8 @@ api_code api_parse_body(api_request *r, api_input kind, const char *body,
 /* Applies one option given outside the body (query string, CLI flag):
  * "algorithm", "bounds" ("xmin,ymin,xmax,ymax"), "format" (json, geojson,
  * svg, binary, timings), "include" (comma-separated part names, possibly
- * none). Applied after api_parse_body, they win over the body's options.
+ * none), "trace" (true or false). Applied after api_parse_body, they win
+ * over the body's options.
  * Unknown keys give API_MALFORMED; bad values API_INVALID (r unchanged). */
 api_code api_request_option(api_request *r, const char *key, const char *value,
                             api_problem *p);
@@ -224,6 +232,9 @@ typedef struct api_result {
     uint32_t *triangles;    /* when API_PART_TRIANGLES; 3 * n_triangles */
     size_t n_triangles;
     api_timings t;
+    vor_counts counts;      /* the algorithm's work, always */
+    int traced;             /* trace holds the steps (the request's trace) */
+    api_buf trace;          /* the steps as JSON objects, comma-separated */
 } api_result;
 
 void api_result_init(api_result *res);
@@ -237,8 +248,11 @@ double api_clock_ms(void);
  * r->bounds or the default box), derives triangles (API_PART_TRIANGLES),
  * filling res and its timings (prepare, compute, clip -- triangles count in
  * compute; queue_ms and parse_ms are left for the caller, total_ms is the
- * sum of all parts so far). Non-finite points give API_INVALID with pointer
- * "/points/i/k" and a detail naming the input index. */
+ * sum of all parts so far) and counts; with r->trace, the steps (in
+ * res->trace). Non-finite points give API_INVALID with pointer
+ * "/points/i/k" and a detail naming the input index; a trace of more than
+ * API_TRACE_MAX_POINTS points, or in a format other than JSON, API_INVALID
+ * with pointer "/trace". */
 api_code api_compute(const api_request *r, api_result *res, api_problem *p);
 
 typedef struct api_compare {
@@ -255,7 +269,8 @@ void api_compare_init(api_compare *c);
 void api_compare_clear(api_compare *c);
 /* Runs every algorithm on r's points. An algorithm that fails on its own
  * (not available, out of memory) is recorded in c->status and makes agree
- * 0; invalid input fails the whole call as api_compute would. */
+ * 0; invalid input fails the whole call as api_compute would, and so does
+ * a trace (API_INVALID: /compare does not trace). */
 api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
 
 /* ---- Writing ------------------------------------------------------------ */

@@ -27,6 +27,8 @@ api_code api__set_algorithm(api_request *r, const char *name,
                             const char *pointer, api_problem *p);
 api_code api__set_format(api_request *r, const char *name,
                          const char *pointer, api_problem *p);
+/* "json", "geojson", "svg", "binary", "timings". */
+const char *api__format_name(api_format f);
 /* Adds the part called name (n bytes) to *parts. */
 api_code api__add_part(unsigned *parts, const char *name, size_t n,
                        const char *pointer, api_problem *p);
@@ -70,6 +72,27 @@ int api__write_svg(const api_request *r, const api_result *res,
                    api_timings *t, double t0, api_buf *out);
 int api__write_binary(const api_request *r, const api_result *res,
                       api_timings *t, double t0, api_buf *out);
+
+/* ---- Counts and traces (write_trace.c) ----------------------------------- */
+
+/* Appends the counts that apply to algorithm a as a JSON object
+ * {"name": value, ...}, in the order of vor.h's table. -1 if out of
+ * memory. */
+int api__put_counts(api_buf *out, const vor_counts *c, vor_algorithm a);
+
+/* The trace hook's state: steps go to out as JSON objects separated by
+ * commas, site numbers as input indices of s. */
+typedef struct api__tracer {
+    api_buf *out;
+    const vor_sites *s;
+    vor_algorithm algorithm;
+    vor_counts last; /* the counts of the previous step */
+    size_t steps;
+} api__tracer;
+
+/* The vor_trace_fn of a tracer (ctx). Out of memory is recorded in
+ * out->oom. */
+void api__trace_step(void *ctx, const vor_step *st);
 
 /* Sets t->serialize_ms to the time since t0 (api_clock_ms) and adds it to
  * t->total_ms. */

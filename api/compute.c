@@ -32,7 +32,27 @@ void api_result_clear(api_result *res) {
     vor_diagram_free(res->diagram);
     vor_sites_free(res->sites);
     free(res->triangles);
+    api_buf_clear(&res->trace);
     api_result_init(res);
+}
+
+/* The trace's conditions (api_compute): JSON, at most
+ * API_TRACE_MAX_POINTS points. */
+static api_code check_trace(const api_request *r, api_problem *p) {
+    if (!r->trace) return API_OK;
+    if (r->format != API_FMT_JSON) {
+        return api__problem_at(p, API_INVALID, "/trace", 0,
+                               "trace is written in JSON only, not with "
+                               "format %s",
+                               api__format_name(r->format));
+    }
+    if (r->n > API_TRACE_MAX_POINTS) {
+        return api__problem_at(p, API_INVALID, "/trace", 0,
+                               "trace: at most %d points can be traced, this "
+                               "request has %zu",
+                               API_TRACE_MAX_POINTS, r->n);
+    }
+    return API_OK;
 }
 
 /* Like api_compute, also reporting the core's status (VOR_OK when the
@@ -45,6 +65,7 @@ static api_code compute(const api_request *r, api_result *res, api_problem *p,
     res->t.parse_ms = keep.parse_ms;
     res->algorithm = r->algorithm;
     *core = VOR_OK;
+    if (check_trace(r, p) != API_OK) return p->code;
 
     double t0 = api_clock_ms();
     size_t bad = 0;
@@ -71,7 +92,12 @@ static api_code compute(const api_request *r, api_result *res, api_problem *p,
     double t1 = api_clock_ms();
     res->t.prepare_ms = t1 - t0;
 
-    st = vor_compute(res->sites, r->algorithm, &res->diagram);
+    api__tracer tracer = {&res->trace, res->sites, r->algorithm, {0}, 0};
+    vor_options opt = {&res->counts, r->trace ? api__trace_step : NULL,
+                       &tracer};
+    st = vor_compute_ex(res->sites, r->algorithm, &opt, &res->diagram);
+    res->traced = r->trace;
+    if (st == VOR_OK && res->trace.oom) st = VOR_ENOMEM;
     if (st == VOR_OK && (api__effective_parts(r) & API_PART_TRIANGLES)) {
         st = vor_diagram_triangles(res->diagram, res->sites, &res->triangles,
                                    &res->n_triangles);
@@ -191,6 +217,11 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
     api_compare_clear(c);
     c->t.queue_ms = shared.queue_ms;
     c->t.parse_ms = shared.parse_ms;
+    if (r->trace) {
+        return api__problem_at(p, API_INVALID, "/trace", 0,
+                               "trace is available from /voronoi, which "
+                               "runs one algorithm; /compare does not trace");
+    }
     api_request sub = *r;
     sub.format = API_FMT_JSON;
     sub.parts = 0;

@@ -452,7 +452,7 @@ static api_code read_points(const scan *sc, const char **pp,
 #define PLAIN_MAX 32
 
 static const char *const known_keys = "points, generate, algorithm, bounds, "
-                                      "include, format";
+                                      "include, format, trace";
 
 /* Escapes a key for a JSON pointer (RFC 6901: ~ -> ~0, / -> ~1). */
 static void key_pointer(const char *key, char *dst, size_t size) {
@@ -518,6 +518,16 @@ static api_code apply_include(api_request *r, json_t *v, api_problem *p) {
     }
     r->parts = parts;
     r->parts_given = 1;
+    return API_OK;
+}
+
+static api_code apply_trace(api_request *r, json_t *v, api_problem *p) {
+    if (!json_is_boolean(v)) {
+        return api__problem_at(p, API_INVALID, "/trace", 0,
+                               "trace must be true or false, got %s",
+                               json_type_name(v));
+    }
+    r->trace = json_is_true(v);
     return API_OK;
 }
 
@@ -608,7 +618,7 @@ static api_code apply_generate(api_request *r, json_t *v, const api_limits *lim,
 /* Members of the top-level object, kept until the object is read so they
  * apply in a fixed order whatever their order in the body. */
 typedef struct members {
-    json_t *algorithm, *format, *include, *generate;
+    json_t *algorithm, *format, *include, *generate, *trace;
     int has_points, has_bounds_null;
     int has_bounds;
     double bounds[4];
@@ -643,6 +653,7 @@ static void members_free(members *m) {
     json_decref(m->format);
     json_decref(m->include);
     json_decref(m->generate);
+    json_decref(m->trace);
 }
 
 /* Reads the key string at *pp (a quote) into key (decoded; *pp moves past
@@ -765,6 +776,8 @@ static api_code read_object(const scan *sc, const char **pp, points *pts,
             slot = &m->include;
         } else if (strcmp(key, "generate") == 0) {
             slot = &m->generate;
+        } else if (strcmp(key, "trace") == 0) {
+            slot = &m->trace;
         } else {
             char shown[80];
             api__quote_excerpt(shown, sizeof shown, key, strlen(key), 40);
@@ -842,6 +855,7 @@ static api_code parse_json(api_request *r, const char *body, size_t len,
             goto done;
         }
         if (m.include && (c = apply_include(r, m.include, prob))) goto done;
+        if (m.trace && (c = apply_trace(r, m.trace, prob))) goto done;
         if (m.generate && m.has_points) {
             c = api__problem_at(prob, API_INVALID, "/generate", 0,
                                 "give either points or generate, not both");

@@ -55,7 +55,14 @@ static const struct {
     {"vertices", API_PART_VERTICES}, {"edges", API_PART_EDGES},
     {"cells", API_PART_CELLS},       {"triangles", API_PART_TRIANGLES},
     {"sites", API_PART_SITES},       {"clipped", API_PART_CLIPPED},
+    {"counts", API_PART_COUNTS},
 };
+
+const char *api__format_name(api_format f) {
+    return (unsigned)f < sizeof format_names / sizeof format_names[0]
+               ? format_names[f]
+               : "json";
+}
 
 api_code api__set_algorithm(api_request *r, const char *name,
                             const char *pointer, api_problem *p) {
@@ -102,7 +109,7 @@ api_code api__add_part(unsigned *parts, const char *name, size_t n,
     api__quote_excerpt(shown, sizeof shown, name, n, 40);
     return api__problem_at(p, API_INVALID, pointer, 0,
                            "unknown part \"%s\" in include; valid: vertices, "
-                           "edges, cells, triangles, sites, clipped",
+                           "edges, cells, triangles, sites, clipped, counts",
                            shown);
 }
 
@@ -243,11 +250,22 @@ api_code api_request_option(api_request *r, const char *key, const char *value,
         r->parts_given = 1;
         return API_OK;
     }
+    if (strcmp(key, "trace") == 0) {
+        if (strcmp(value, "true") == 0 || strcmp(value, "false") == 0) {
+            r->trace = value[0] == 't';
+            return API_OK;
+        }
+        char shown[80];
+        api__quote_excerpt(shown, sizeof shown, value, strlen(value), 40);
+        return api__problem_at(p, API_INVALID, NULL, 0,
+                               "trace must be true or false, got \"%s\"",
+                               shown);
+    }
     char shown[80];
     api__quote_excerpt(shown, sizeof shown, key, strlen(key), 40);
     return api__problem_at(p, API_MALFORMED, NULL, 0,
                            "unknown option \"%s\"; known: algorithm, bounds, "
-                           "format, include",
+                           "format, include, trace",
                            shown);
 }
 

@@ -89,6 +89,12 @@ api_code api_write_result(const api_request *r, const api_result *res,
     case API_FMT_TIMINGS:
         api__finish_timings(t, t0);
         rc = api__put_timings(out, t);
+        if (rc == 0 && (api__effective_parts(r) & API_PART_COUNTS)) {
+            out->len--; /* the closing brace, written again below */
+            rc = API_BUF_LIT(out, ",\"counts\":") ||
+                 api__put_counts(out, &res->counts, res->algorithm) ||
+                 API_BUF_LIT(out, "}");
+        }
         break;
     default: rc = api__write_json(r, res, t, t0, out); break;
     }
@@ -127,6 +133,8 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
             api_buf_printf(out, ",\"n_vertices\":%zu,\"n_edges\":%zu,"
                                 "\"n_rays\":%zu",
                            d->n_vertices, d->n_edges, d->n_rays);
+            API_BUF_LIT(out, ",\"counts\":");
+            api__put_counts(out, &res->counts, (vor_algorithm)a);
         }
         API_BUF_LIT(out, ",\"timings\":");
         api__put_timings(out, &res->t);

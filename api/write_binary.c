@@ -6,10 +6,12 @@
  *   header, 48 bytes:
  *     0  char[4] "VORB"          4  u32 version (1)
  *     8  u32 algorithm (0 fortune, 1 bowyer-watson, 2 flip)
- *    12  u32 flags: 1 triangles present, 2 clipped present, 4 bounds given
+ *    12  u32 flags: 1 triangles present, 2 clipped present, 4 bounds given,
+ *              8 counts present
  *    16  u32 n_input   20 u32 n_sites   24 u32 n_vertices   28 u32 n_edges
  *    32  u32 n_rays    36 u32 n_triangles (0 without flag 1)
- *    40  u32 n_clip_points (0 without flag 2)    44 u32 reserved (0)
+ *    40  u32 n_clip_points (0 without flag 2)
+ *    44  u32 n_counts (0 without flag 8)
  *   then these sections, in this order, each padded with zero bytes to a
  *   multiple of 8:
  *     site_input   u32[n_sites]        input index of each site
@@ -29,6 +31,9 @@
  *              u32[n_sites + 1]; clip_xy f64[2 n_clip_points]
  *     timings      f64[7]   queue, parse, prepare, compute, clip,
  *                           serialize, total (ms)
+ *     (flag 8) counts u64[n_counts]  the operation counts, every count of
+ *                           core/vor.h's table in its order (0 where it
+ *                           does not apply to the algorithm)
  *
  * The "include" choice does not apply: every section is always written.
  * O(output); byte order is produced explicitly, so the format is the same
@@ -47,6 +52,12 @@ static void le32(api_buf *b, uint32_t v) {
 static void le64(api_buf *b, double d) {
     uint64_t v;
     memcpy(&v, &d, sizeof v);
+    unsigned char c[8];
+    for (int i = 0; i < 8; i++) c[i] = (unsigned char)(v >> (8 * i));
+    api__put(b, (const char *)c, 8);
+}
+
+static void le64u(api_buf *b, uint64_t v) {
     unsigned char c[8];
     for (int i = 0; i < 8; i++) c[i] = (unsigned char)(v >> (8 * i));
     api__put(b, (const char *)c, 8);
@@ -83,7 +94,8 @@ int api__write_binary(const api_request *r, const api_result *res,
     const vor_diagram *d = res->diagram;
     const vor_clipped *c = res->clipped;
     int tri = (api__effective_parts(r) & API_PART_TRIANGLES) != 0;
-    uint32_t flags = (tri ? 1u : 0u) | (c ? 2u : 0u) | (r->has_bounds ? 4u : 0u);
+    uint32_t flags = (tri ? 1u : 0u) | (c ? 2u : 0u) | (r->has_bounds ? 4u : 0u) |
+                     8u;
     uint32_t n_clip = c ? c->poly_start[s->n] : 0;
     if (out->len % 8 && api__reserve(out, 8)) return -1;
     pad8(out);
@@ -99,7 +111,7 @@ int api__write_binary(const api_request *r, const api_result *res,
                              (uint32_t)d->n_rays,
                              tri ? (uint32_t)res->n_triangles : 0,
                              n_clip,
-                             0};
+                             (uint32_t)VOR_COUNT_FIELDS};
     for (size_t i = 0; i < sizeof head / sizeof head[0]; i++) le32(out, head[i]);
 
     if (put_u32s(out, s->input_of, s->n)) return -1;
@@ -141,5 +153,9 @@ int api__write_binary(const api_request *r, const api_result *res,
     const double tv[7] = {t->queue_ms,   t->parse_ms,     t->prepare_ms,
                           t->compute_ms, t->clip_ms,      t->serialize_ms,
                           t->total_ms};
-    return put_f64s(out, tv, 7);
+    if (put_f64s(out, tv, 7)) return -1;
+    if (api__reserve(out, 8 * VOR_COUNT_FIELDS)) return -1;
+    for (size_t i = 0; i < VOR_COUNT_FIELDS; i++)
+        le64u(out, vor_count_value(&res->counts, i));
+    return 0;
 }

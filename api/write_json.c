@@ -15,6 +15,8 @@
  *    "clipped": {"bounds": [...], "bounds_given": true,
  *                "edges": [[x0, y0, x1, y1] or null, ...],
  *                "cells": [[[x, y], ...], ...]},    closed rings
+ *    "counts": {"orient2d": 6314, ...},           the algorithm's work
+ *    "trace": {"steps": [{"kind": "order", ...}, ...]},  write_trace.c
  *    "timings": {...}}
  *
  * Every site number is an INPUT index (the first occurrence of a duplicated
@@ -248,6 +250,17 @@ int api__write_json(const api_request *r, const api_result *res,
     if ((parts & API_PART_TRIANGLES) && write_triangles(res, out)) return -1;
     if ((parts & API_PART_CLIPPED) && res->clipped && write_clipped(r, res, out)) {
         return -1;
+    }
+    if (parts & API_PART_COUNTS) {
+        if (API_BUF_LIT(out, ",\"counts\":") ||
+            api__put_counts(out, &res->counts, res->algorithm))
+            return -1;
+    }
+    if (res->traced) {
+        if (API_BUF_LIT(out, ",\"trace\":{\"steps\":[") ||
+            api_buf_append(out, res->trace.data, res->trace.len) ||
+            API_BUF_LIT(out, "]}"))
+            return -1;
     }
     if (API_BUF_LIT(out, ",\"timings\":")) return -1;
     api__finish_timings(t, t0);

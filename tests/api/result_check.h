@@ -61,6 +61,29 @@ static inline void rc_check_timings(const json_t *t) {
     }
 }
 
+/* A counts object: exactly the counts that apply to algorithm a, with
+ * res's values. */
+static inline void rc_check_counts(const json_t *o, const vor_counts *c,
+                                   vor_algorithm a) {
+    if (!json_is_object(o)) fail_msg("counts: not an object");
+    size_t want = 0;
+    for (size_t i = 0; i < VOR_COUNT_FIELDS; i++) {
+        if (!(vor_count_algorithms(i) & (1u << a))) {
+            if (json_object_get(o, vor_count_name(i)))
+                fail_msg("counts: %s does not apply to %s", vor_count_name(i),
+                         vor_algorithm_name(a));
+            continue;
+        }
+        want++;
+        json_t *v = json_object_get(o, vor_count_name(i));
+        if (!json_is_integer(v) ||
+            (uint64_t)json_integer_value(v) != vor_count_value(c, i))
+            fail_msg("counts: %s", vor_count_name(i));
+    }
+    if (json_object_size(o) != want) fail_msg("counts: %zu keys, want %zu",
+                                              json_object_size(o), want);
+}
+
 /* The whole JSON document against res, for the given effective parts. */
 static inline void rc_check_json(const char *doc, size_t len, const api_result *res,
                                  unsigned parts, int bounds_given) {
@@ -215,6 +238,9 @@ static inline void rc_check_json(const char *doc, size_t len, const api_result *
             }
         }
     }
+    v = json_object_get(j, "counts");
+    if (!(parts & API_PART_COUNTS) != (v == NULL)) fail_msg("counts presence");
+    if (v) rc_check_counts(v, &res->counts, res->algorithm);
     rc_check_timings(rc_get(j, "timings"));
     json_decref(j);
 }
@@ -325,13 +351,14 @@ static inline void rc_check_binary(const char *doc, size_t len, const api_result
     if (rc_u32(&r) != 1) fail_msg("binary: version");
     if (rc_u32(&r) != (uint32_t)res->algorithm) fail_msg("binary: algorithm");
     uint32_t flags = rc_u32(&r);
-    if (((flags & 1) != 0) != (want_tri != 0) || ((flags & 2) != 0) != (c != NULL)) {
+    if (((flags & 1) != 0) != (want_tri != 0) || ((flags & 2) != 0) != (c != NULL) ||
+        !(flags & 8)) {
         fail_msg("binary: flags %u", flags);
     }
     uint32_t want[] = {(uint32_t)s->n_input, (uint32_t)s->n, (uint32_t)d->n_vertices,
                        (uint32_t)d->n_edges, (uint32_t)d->n_rays,
                        want_tri ? (uint32_t)res->n_triangles : 0,
-                       c ? c->poly_start[s->n] : 0, 0};
+                       c ? c->poly_start[s->n] : 0, (uint32_t)VOR_COUNT_FIELDS};
     for (int i = 0; i < 8; i++) {
         if (rc_u32(&r) != want[i]) fail_msg("binary: header word %d", i);
     }
@@ -384,6 +411,13 @@ static inline void rc_check_binary(const char *doc, size_t len, const api_result
     for (int k = 0; k < 7; k++) {
         double t = rc_f64(&r);
         if (!(t >= 0)) fail_msg("binary: timing %d", k);
+    }
+    for (size_t i = 0; i < VOR_COUNT_FIELDS; i++) {
+        uint64_t v = 0;
+        if (r.end - r.p < 8) fail_msg("binary: truncated counts");
+        for (int b = 0; b < 8; b++) v |= (uint64_t)r.p[b] << (8 * b);
+        r.p += 8;
+        if (v != vor_count_value(&res->counts, i)) fail_msg("binary: count %zu", i);
     }
     if (r.p != r.end) fail_msg("binary: %td bytes left over", r.end - r.p);
 }

@@ -8,7 +8,15 @@
  * the comparison (the algorithms must agree whenever all of them run),
  * the refusals (non-finite points with their pointer), and the default
  * box. An algorithm the core does not provide yet (501) is reported and
- * skipped, never counted as a pass of its checks. */
+ * skipped, never counted as a pass of its checks.
+ *
+ * Traces: the JSON steps of real runs are replayed from the document alone
+ * (triangles from the insertions' cavities and stars and from the flips,
+ * or from Fortune's vertex events; Fortune's beach line from its first row
+ * and each step's position) and must give as many triangles as the
+ * answer's Delaunay triangulation -- the very same ones where it is unique
+ * -- and running counts that end at the answer's counts; and the trace's
+ * limits and refusals. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -294,6 +302,271 @@ static void test_default_box(void **state) {
     vor_sites_free(s);
 }
 
+/* ---- Traces ----------------------------------------------------------------- */
+
+/* A triangle as three input indices (-1: the vertex at infinity), rotated
+ * to start at its smallest. */
+typedef struct tri3 {
+    long long v[3];
+} tri3;
+
+static tri3 tri_of(const json_t *a) {
+    tri3 t;
+    for (int k = 0; k < 3; k++) {
+        json_t *x = json_array_get(a, (size_t)k);
+        if (!json_is_integer(x)) fail_msg("triangle: not integers");
+        t.v[k] = json_integer_value(x);
+    }
+    if (t.v[0] < 0) t.v[0] = 1LL << 40; /* infinity sorts last */
+    if (t.v[1] < 0) t.v[1] = 1LL << 40;
+    if (t.v[2] < 0) t.v[2] = 1LL << 40;
+    int k = t.v[0] <= t.v[1] && t.v[0] <= t.v[2] ? 0 : t.v[1] <= t.v[2] ? 1 : 2;
+    tri3 r;
+    for (int j = 0; j < 3; j++) r.v[j] = t.v[(k + j) % 3];
+    return r;
+}
+
+static int tri_finite(const tri3 *t) {
+    return t->v[0] != 1LL << 40 && t->v[1] != 1LL << 40 && t->v[2] != 1LL << 40;
+}
+
+typedef struct tri_set {
+    tri3 *t;
+    size_t n, cap;
+} tri_set;
+
+static void set_add(tri_set *s, tri3 t) {
+    for (size_t i = 0; i < s->n; i++)
+        if (!memcmp(&s->t[i], &t, sizeof t)) fail_msg("triangle added twice");
+    if (s->n == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 256;
+        s->t = realloc(s->t, s->cap * sizeof *s->t);
+        assert_non_null(s->t);
+    }
+    s->t[s->n++] = t;
+}
+
+static void set_remove(tri_set *s, tri3 t) {
+    for (size_t i = 0; i < s->n; i++) {
+        if (!memcmp(&s->t[i], &t, sizeof t)) {
+            s->t[i] = s->t[--s->n];
+            return;
+        }
+    }
+    fail_msg("triangle (%lld, %lld, %lld) removed but not there", t.v[0], t.v[1], t.v[2]);
+}
+
+static int cmp_tri(const void *a, const void *b) {
+    return memcmp(a, b, sizeof(tri3)) ? (memcmp(a, b, sizeof(tri3)) < 0 ? -1 : 1) : 0;
+}
+
+/* Replays the trace of document j (algorithm a) into the finite triangles
+ * of *out, checking Fortune's beach line on the way and the running
+ * counts against the document's. */
+static void replay_json(const json_t *j, vor_algorithm a, tri_set *out) {
+    json_t *steps = json_object_get(json_object_get(j, "trace"), "steps");
+    if (!json_is_array(steps) || json_array_size(steps) < 2) fail_msg("no steps");
+    tri_set s = {0};
+    long long *beach = NULL;
+    size_t nb = 0, cap = 0;
+    json_t *counts = json_object(); /* running */
+    for (size_t i = 0; i < json_array_size(steps); i++) {
+        json_t *st = json_array_get(steps, i);
+        const char *kind = json_string_value(json_object_get(st, "kind"));
+        if (kind == NULL) fail_msg("step %zu: no kind", i);
+        json_t *c = json_object_get(st, "counts");
+        if (!json_is_object(c)) fail_msg("step %zu: no counts", i);
+        json_object_update(counts, c);
+        if ((i == 0) != !strcmp(kind, "order")) fail_msg("step %zu: order", i);
+        if (!strcmp(kind, "begin") && a != VOR_FORTUNE) {
+            json_t *t = json_object_get(st, "triangle");
+            set_add(&s, tri_of(t));
+            for (int k = 0; k < 3; k++) {
+                json_t *g = json_pack("[O,O,i]", json_array_get(t, (size_t)(k + 1) % 3),
+                                      json_array_get(t, (size_t)k), -1);
+                set_add(&s, tri_of(g));
+                json_decref(g);
+            }
+        } else if (!strcmp(kind, "begin")) {
+            json_t *b = json_object_get(st, "beach");
+            nb = json_array_size(b);
+            cap = 2 * nb + 4096;
+            beach = realloc(beach, cap * sizeof *beach);
+            for (size_t k = 0; k < nb; k++) beach[k] = json_integer_value(json_array_get(b, k));
+        } else if (!strcmp(kind, "insert")) {
+            json_t *cav = json_object_get(st, "cavity"), *star = json_object_get(st, "star");
+            if (json_array_size(star) != json_array_size(cav) + 2) fail_msg("star size");
+            for (size_t k = 0; k < json_array_size(cav); k++)
+                set_remove(&s, tri_of(json_array_get(cav, k)));
+            for (size_t k = 0; k < json_array_size(star); k++)
+                set_add(&s, tri_of(json_array_get(star, k)));
+        } else if (!strcmp(kind, "flip")) {
+            json_t *rm = json_object_get(st, "removed"), *ad = json_object_get(st, "added");
+            json_t *t1 = json_pack("[O,O,O]", json_array_get(rm, 0), json_array_get(rm, 1),
+                                   json_array_get(ad, 0));
+            json_t *t2 = json_pack("[O,O,O]", json_array_get(rm, 1), json_array_get(rm, 0),
+                                   json_array_get(ad, 1));
+            json_t *n1 = json_pack("[O,O,O]", json_array_get(rm, 0), json_array_get(ad, 1),
+                                   json_array_get(ad, 0));
+            json_t *n2 = json_pack("[O,O,O]", json_array_get(ad, 1), json_array_get(rm, 1),
+                                   json_array_get(ad, 0));
+            set_remove(&s, tri_of(t1));
+            set_remove(&s, tri_of(t2));
+            set_add(&s, tri_of(n1));
+            set_add(&s, tri_of(n2));
+            json_decref(t1);
+            json_decref(t2);
+            json_decref(n1);
+            json_decref(n2);
+        } else if (!strcmp(kind, "site")) {
+            long long p = json_integer_value(json_object_get(st, "site"));
+            size_t at = (size_t)json_integer_value(json_object_get(st, "at"));
+            if (at == 0 || at > nb || nb + 2 > cap) fail_msg("site %lld: at %zu", p, at);
+            json_t *arc = json_object_get(st, "arc");
+            if (arc) {
+                if (beach[at - 1] != json_integer_value(arc)) fail_msg("site %lld: arc", p);
+                memmove(beach + at + 2, beach + at, (nb - at) * sizeof *beach);
+                beach[at] = p;
+                beach[at + 1] = beach[at - 1];
+                nb += 2;
+            } else {
+                json_t *bp = json_object_get(st, "breakpoint");
+                if (beach[at - 1] != json_integer_value(json_array_get(bp, 0)) ||
+                    beach[at] != json_integer_value(json_array_get(bp, 1)))
+                    fail_msg("site %lld: breakpoint", p);
+                memmove(beach + at + 1, beach + at, (nb - at) * sizeof *beach);
+                beach[at] = p;
+                nb++;
+                set_add(&s, tri_of(json_object_get(st, "triangle")));
+            }
+        } else if (!strcmp(kind, "circle")) {
+            size_t at = (size_t)json_integer_value(json_object_get(st, "at"));
+            json_t *arcs = json_object_get(st, "arcs");
+            if (at == 0 || at + 1 >= nb) fail_msg("circle at %zu", at);
+            for (int k = 0; k < 3; k++)
+                if (beach[at - 1 + (size_t)k] != json_integer_value(json_array_get(arcs, (size_t)k)))
+                    fail_msg("circle: arcs not at %zu", at);
+            memmove(beach + at, beach + at + 1, (nb - at - 1) * sizeof *beach);
+            nb--;
+            set_add(&s, tri_of(arcs));
+        }
+    }
+    const char *last = json_string_value(json_object_get(
+        json_array_get(steps, json_array_size(steps) - 1), "kind"));
+    if (strcmp(last, "end")) fail_msg("last step: %s", last);
+    if (!json_equal(counts, json_object_get(j, "counts"))) fail_msg("running counts differ");
+    json_decref(counts);
+    free(beach);
+    out->n = 0;
+    for (size_t i = 0; i < s.n; i++)
+        if (tri_finite(&s.t[i])) set_add(out, s.t[i]);
+    free(s.t);
+}
+
+static void test_trace_replays(void **state) {
+    (void)state;
+    const char *sets[] = {"uniform-1000", "pixels-2000", "grid-7x7", "int-circle-1105",
+                          "duplicates-3000", "equal-y-first"};
+    for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++) {
+        vt_set set;
+        if (vt_make_named(sets[k], &set) != 0) fail_msg("no set %s", sets[k]);
+        size_t n = set.n > 400 ? 400 : set.n;
+        int unique = !strcmp(sets[k], "uniform-1000"); /* no 4 cocircular */
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            if (!available[a]) continue;
+            api_request r = request_for(set.xy, n, (vor_algorithm)a,
+                                        API_PART_TRIANGLES | API_PART_COUNTS, NULL);
+            r.trace = 1;
+            api_result res;
+            api_problem p;
+            api_result_init(&res);
+            if (api_compute(&r, &res, &p) != API_OK) fail_msg("%s: %s", sets[k], p.detail);
+            api_buf out;
+            api_buf_init(&out);
+            assert_int_equal(api_write_result(&r, &res, &res.t, &out, &p), API_OK);
+            rc_check_json(out.data, out.len, &res, r.parts, 0);
+            json_error_t err;
+            json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
+            assert_non_null(j);
+            tri_set got = {0};
+            replay_json(j, (vor_algorithm)a, &got);
+            json_t *want = json_object_get(j, "triangles");
+            if (got.n != json_array_size(want))
+                fail_msg("%s %s: %zu triangles replayed, answer has %zu", sets[k],
+                         vor_algorithm_name(a), got.n, json_array_size(want));
+            if (unique) {
+                tri3 *w = malloc(got.n * sizeof *w);
+                for (size_t i = 0; i < got.n; i++) w[i] = tri_of(json_array_get(want, i));
+                qsort(w, got.n, sizeof *w, cmp_tri);
+                qsort(got.t, got.n, sizeof *got.t, cmp_tri);
+                if (memcmp(w, got.t, got.n * sizeof *w))
+                    fail_msg("%s %s: replayed triangles differ", sets[k], vor_algorithm_name(a));
+                free(w);
+            }
+            print_message("%s %s: %zu steps, %zu triangles replayed\n", sets[k],
+                          vor_algorithm_name(a),
+                          json_array_size(json_object_get(json_object_get(j, "trace"), "steps")),
+                          got.n);
+            free(got.t);
+            json_decref(j);
+            api_buf_clear(&out);
+            api_result_clear(&res);
+            api_request_clear(&r);
+        }
+        vt_set_free(&set);
+    }
+}
+
+static void test_trace_refusals(void **state) {
+    (void)state;
+    double *xy = vt_uniform(API_TRACE_MAX_POINTS + 1, 4);
+    assert_non_null(xy);
+    api_result res;
+    api_problem p;
+    /* one point too many */
+    api_request r = request_for(xy, API_TRACE_MAX_POINTS + 1, VOR_FLIP, API_PART_DEFAULT, NULL);
+    r.trace = 1;
+    api_result_init(&res);
+    assert_int_equal(api_compute(&r, &res, &p), API_INVALID);
+    assert_string_equal(p.pointer, "/trace");
+    assert_non_null(strstr(p.detail, "2000"));
+    assert_non_null(strstr(p.detail, "2001"));
+    assert_null(res.diagram);
+    api_request_clear(&r);
+    /* exactly the limit */
+    r = request_for(xy, API_TRACE_MAX_POINTS, VOR_BOWYER_WATSON, API_PART_DEFAULT, NULL);
+    r.trace = 1;
+    assert_int_equal(api_compute(&r, &res, &p), API_OK);
+    assert_true(res.traced && res.trace.len > 0);
+    api_result_clear(&res);
+    /* not JSON */
+    r.format = API_FMT_BINARY;
+    assert_int_equal(api_compute(&r, &res, &p), API_INVALID);
+    assert_string_equal(p.pointer, "/trace");
+    assert_non_null(strstr(p.detail, "binary"));
+    r.format = API_FMT_TIMINGS;
+    assert_int_equal(api_compute(&r, &res, &p), API_INVALID);
+    r.format = API_FMT_JSON;
+    /* not /compare */
+    api_compare c;
+    api_compare_init(&c);
+    assert_int_equal(api_compare_run(&r, &c, &p), API_INVALID);
+    assert_string_equal(p.pointer, "/trace");
+    api_compare_clear(&c);
+    /* without a trace, the same request is fine everywhere */
+    r.trace = 0;
+    assert_int_equal(api_compare_run(&r, &c, &p), API_OK);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        if (!available[a]) continue;
+        assert_true(a == VOR_FORTUNE ? c.res[a].counts.site_events == API_TRACE_MAX_POINTS
+                                     : c.res[a].counts.orient2d > 0);
+        assert_false(c.res[a].traced);
+    }
+    api_compare_clear(&c);
+    api_request_clear(&r);
+    free(xy);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sets_round_trip),
@@ -302,6 +575,8 @@ int main(void) {
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_small_inputs),
         cmocka_unit_test(test_default_box),
+        cmocka_unit_test(test_trace_replays),
+        cmocka_unit_test(test_trace_refusals),
     };
     return cmocka_run_group_tests_name("api/compute", tests, setup, NULL);
 }

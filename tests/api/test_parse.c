@@ -122,6 +122,17 @@ static void test_json_accepted(void **state) {
     assert_int_equal(o.r.algorithm, VOR_BOWYER_WATSON);
     api_request_clear(&o.r);
 
+    /* trace, and counts as a part */
+    assert_int_equal(parse_json(&o, "{\"points\":[[0,0]],\"trace\":true,"
+                                    "\"include\":[\"counts\",\"edges\"]}"),
+                     API_OK);
+    assert_true(o.r.trace);
+    assert_int_equal(o.r.parts, API_PART_COUNTS | API_PART_EDGES);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"points\":[[0,0]],\"trace\":false}"), API_OK);
+    assert_false(o.r.trace);
+    api_request_clear(&o.r);
+
     /* include as a string; bounds null; escaped key. */
     assert_int_equal(parse_json(&o, "{\"include\": \"edges,cells\", \"bounds\": "
                                     "null, \"p\\u006fints\": [[5,6]]}"),
@@ -215,7 +226,14 @@ static void test_json_refusals(void **state) {
         /* unknown keys: 400 naming the key */
         {"{\"points\": [], \"colour\": \"red\"}", API_MALFORMED, "/colour", 0,
          "unknown key \"colour\"; known: points, generate, algorithm, bounds, "
-         "include, format"},
+         "include, format, trace"},
+        {"{\"points\": [], \"trace\": true, \"trace\": false}", API_MALFORMED,
+         "/trace", 0, "duplicate key \"trace\""},
+        /* trace is a boolean */
+        {"{\"points\": [], \"trace\": 1}", API_INVALID, "/trace", 0,
+         "trace must be true or false, got a number"},
+        {"{\"points\": [], \"trace\": \"true\"}", API_INVALID, "/trace", 0,
+         "trace must be true or false, got a string"},
         {"{\"a/b~c\": 1}", API_MALFORMED, "/a~1b~0c", 0, "unknown key \"a/b~c\""},
         {"{\"generate\": {\"n\": 3, \"size\": 2}}", API_MALFORMED,
          "/generate/size", 0, "unknown key \"size\" in generate"},

@@ -47,6 +47,13 @@ static void test_options_accepted(void **state) {
     assert_true(r.parts_given);
     assert_int_equal(api_request_option(&r, "include", "", &p), API_OK);
     assert_int_equal(r.parts, 0);
+    assert_int_equal(api_request_option(&r, "include", "counts,cells", &p), API_OK);
+    assert_int_equal(r.parts, API_PART_COUNTS | API_PART_CELLS);
+    assert_false(r.trace);
+    assert_int_equal(api_request_option(&r, "trace", "true", &p), API_OK);
+    assert_true(r.trace);
+    assert_int_equal(api_request_option(&r, "trace", "false", &p), API_OK);
+    assert_false(r.trace);
     api_request_clear(&r);
 }
 
@@ -61,7 +68,10 @@ static void test_options_refused(void **state) {
          "unknown algorithm \"delaunay\"; valid: fortune, bowyer-watson, flip"},
         {"format", "png", API_INVALID, "unknown format \"png\""},
         {"include", "edges,faces", API_INVALID,
-         "unknown part \"faces\" in include; valid: vertices, edges"},
+         "unknown part \"faces\" in include; valid: vertices, edges, cells, "
+         "triangles, sites, clipped, counts"},
+        {"trace", "yes", API_INVALID, "trace must be true or false, got \"yes\""},
+        {"trace", "", API_INVALID, "trace must be true or false"},
         {"bounds", "0,0,1", API_INVALID, "must be four comma-separated numbers"},
         {"bounds", "0,0,1,1,1", API_INVALID, "must be four comma-separated"},
         {"bounds", "0,0,x,1", API_INVALID, "must be four comma-separated"},
@@ -70,7 +80,8 @@ static void test_options_refused(void **state) {
         {"bounds", "2,0,1,1", API_INVALID, "xmin 2 must be less than xmax 1"},
         {"bounds", "0,1,1,1", API_INVALID, "ymin 1 must be less than ymax 1"},
         {"colour", "red", API_MALFORMED,
-         "unknown option \"colour\"; known: algorithm, bounds, format, include"},
+         "unknown option \"colour\"; known: algorithm, bounds, format, include, "
+         "trace"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         api_request r;

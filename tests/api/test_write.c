@@ -15,7 +15,9 @@
 #include <string.h>
 #include <cmocka.h>
 
+#include "../../api/codec.h"
 #include "../../api/numconv.h"
+#include "../../core/internal.h"
 #include "result_check.h"
 
 /* Sites (0,0), (2,0), (0,2) and input 3 = (2,0) again. One vertex (1,1);
@@ -61,6 +63,14 @@ static api_result tri_result(void) {
     res.t.parse_ms = 1.25;
     res.t.prepare_ms = 0.5;
     res.t.compute_ms = 2;
+    /* made-up counts, some of them not Bowyer-Watson's (never written) */
+    res.counts.orient2d = 12;
+    res.counts.incircle = 3;
+    res.counts.cavity_triangles = 1;
+    res.counts.triangles_created = 6;
+    res.counts.flips = 7;
+    res.counts.circle_events = 9;
+    res.counts.order_keys = (uint64_t)1 << 40; /* beyond 32 bits */
     return res;
 }
 
@@ -274,6 +284,228 @@ static void test_timings_only(void **state) {
     api_buf_clear(&out);
 }
 
+/* format=timings with include=counts: the timings object gains the
+ * counts, and nothing else. */
+static void test_timings_with_counts(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    api_request r = request(API_FMT_TIMINGS, API_PART_COUNTS, 1);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    json_error_t err;
+    json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
+    if (j == NULL) fail_msg("not JSON: %s: %s", err.text, out.data);
+    rc_check_counts(json_object_get(j, "counts"), &res.counts, VOR_BOWYER_WATSON);
+    assert_int_equal(json_object_size(j), 8);
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "counts"),
+                                                        "order_keys")),
+                     (json_int_t)1 << 40);
+    json_object_del(j, "counts");
+    rc_check_timings(j);
+    json_decref(j);
+    api_buf_clear(&out);
+}
+
+/* A traced result carries "trace": {"steps": [...]} with the steps as
+ * the tracer wrote them, before the timings. */
+static void test_json_trace_member(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    res.traced = 1;
+    api_buf_init(&res.trace);
+    assert_int_equal(api_buf_append(&res.trace, "{\"kind\":\"end\"}", 14), 0);
+    api_request r = request(API_FMT_JSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    write_ok(&r, &res, &out);
+    json_error_t err;
+    json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
+    if (j == NULL) fail_msg("not JSON: %s: %s", err.text, out.data);
+    json_t *steps = json_object_get(json_object_get(j, "trace"), "steps");
+    assert_int_equal(json_array_size(steps), 1);
+    assert_string_equal(json_string_value(json_object_get(json_array_get(steps, 0), "kind")),
+                        "end");
+    assert_null(json_object_get(j, "counts")); /* not asked for */
+    assert_non_null(strstr(out.data, "]},\"timings\":{"));
+    json_decref(j);
+    api_buf_clear(&out);
+    api_buf_clear(&res.trace);
+}
+
+/* Every kind of step through the tracer, on sites whose input indices
+ * differ from their site indices (input 1 repeats input 0). */
+static void test_trace_steps(void **state) {
+    (void)state;
+    static double xy[] = {0, 0, 4, 0, 0, 4};
+    static uint32_t input_of[] = {0, 2, 3};
+    static uint32_t site_of[] = {0, 0, 1, 2};
+    vor_sites s = {4, 3, xy, input_of, site_of};
+    api_buf out;
+    api_buf_init(&out);
+    api__tracer t = {&out, &s, VOR_FLIP, {0}, 0};
+    vor_counts c;
+    memset(&c, 0, sizeof c);
+    vor_step st;
+    const uint32_t order[] = {2, 0, 1};
+    vor__step_init(&st, VOR_STEP_ORDER);
+    st.order = order;
+    st.n_order = 3;
+    c.order_keys = 3;
+    c.order_rounds = 1;
+    c.site_events = 5; /* not flip's: never written */
+    st.counts = &c;
+    api__trace_step(&t, &st);
+    vor__step_init(&st, VOR_STEP_BEGIN);
+    st.tri[0] = 0, st.tri[1] = 1, st.tri[2] = 2;
+    c.triangles_created = 4;
+    st.counts = &c;
+    api__trace_step(&t, &st);
+    const uint32_t cav[] = {1, 0, VOR_INFINITE, 0, 2, VOR_INFINITE};
+    const uint32_t star[] = {1, 0, 2, 0, 2, 1, 2, 1, VOR_INFINITE, 1, 0, VOR_INFINITE};
+    vor__step_init(&st, VOR_STEP_INSERT);
+    st.site = 2;
+    st.tri[0] = 1, st.tri[1] = 0, st.tri[2] = VOR_INFINITE;
+    st.split = VOR_SPLIT_HULL;
+    st.cavity = cav;
+    st.n_cavity = 2;
+    st.star = star;
+    st.n_star = 4;
+    c.walk_steps = 2;
+    st.counts = &c;
+    api__trace_step(&t, &st);
+    vor__step_init(&st, VOR_STEP_FLIP);
+    st.edge[0] = st.tri[0] = 0;
+    st.edge[1] = st.tri[1] = 1;
+    st.added[0] = st.tri[2] = 2;
+    st.added[1] = 1;
+    c.flips = 1;
+    st.counts = &c;
+    api__trace_step(&t, &st);
+    vor__step_init(&st, VOR_STEP_END);
+    st.counts = &c; /* nothing changed */
+    api__trace_step(&t, &st);
+    assert_false(out.oom);
+
+    api_buf doc;
+    api_buf_init(&doc);
+    api_buf_printf(&doc, "[%s]", out.data);
+    json_error_t err;
+    json_t *j = json_loadb(doc.data, doc.len, JSON_REJECT_DUPLICATES, &err);
+    if (j == NULL) fail_msg("steps are not JSON: %s: %s", err.text, doc.data);
+    assert_int_equal(json_array_size(j), 5);
+    json_t *o = json_array_get(j, 0);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "order");
+    json_t *sites = json_object_get(o, "sites");
+    assert_int_equal(json_integer_value(json_array_get(sites, 0)), 3); /* input index */
+    assert_int_equal(json_integer_value(json_array_get(sites, 1)), 0);
+    assert_int_equal(json_integer_value(json_array_get(sites, 2)), 2);
+    json_t *cn = json_object_get(o, "counts");
+    size_t flip_counts = 0;
+    for (size_t i = 0; i < VOR_COUNT_FIELDS; i++)
+        flip_counts += (vor_count_algorithms(i) & VOR_IN_FLIP) != 0;
+    assert_int_equal(json_object_size(cn), flip_counts); /* all at the first */
+    assert_int_equal(json_integer_value(json_object_get(cn, "order_keys")), 3);
+    assert_int_equal(json_integer_value(json_object_get(cn, "flips")), 0);
+    assert_null(json_object_get(cn, "site_events"));
+    o = json_array_get(j, 1);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "begin");
+    assert_int_equal(json_array_size(json_object_get(o, "triangle")), 3);
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(o, "counts"),
+                                                        "triangles_created")), 4);
+    o = json_array_get(j, 2);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "insert");
+    assert_int_equal(json_integer_value(json_object_get(o, "site")), 3);
+    assert_string_equal(json_string_value(json_object_get(o, "split")), "hull");
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "located"), 2)), -1);
+    assert_int_equal(json_array_size(json_object_get(o, "cavity")), 2);
+    json_t *s3 = json_object_get(o, "star");
+    assert_int_equal(json_array_size(s3), 4);
+    assert_int_equal(json_integer_value(json_array_get(json_array_get(s3, 3), 2)), -1);
+    assert_int_equal(json_integer_value(json_array_get(json_array_get(s3, 3), 0)), 2);
+    assert_int_equal(json_object_size(json_object_get(o, "counts")), 1); /* walk_steps */
+    o = json_array_get(j, 3);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "flip");
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "added"), 0)), 3);
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "removed"), 1)), 2);
+    assert_int_equal(json_array_size(json_object_get(o, "circle")), 3);
+    o = json_array_get(j, 4);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "end");
+    assert_int_equal(json_object_size(json_object_get(o, "counts")), 0);
+    json_decref(j);
+
+    /* Fortune's kinds */
+    api_buf_clear(&out);
+    api_buf_clear(&doc);
+    api__tracer f = {&out, &s, VOR_FORTUNE, {0}, 0};
+    const uint32_t beach[] = {0, 1};
+    vor__step_init(&st, VOR_STEP_BEGIN);
+    st.y = 0;
+    st.beach = beach;
+    st.n_beach = 2;
+    memset(&c, 0, sizeof c);
+    st.counts = &c;
+    api__trace_step(&f, &st);
+    vor__step_init(&st, VOR_STEP_SITE);
+    st.site = 2;
+    st.y = 4;
+    st.at = 1;
+    st.breakpoint[0] = st.tri[0] = 0;
+    st.breakpoint[1] = st.tri[1] = 1;
+    st.tri[2] = 2;
+    st.vertex[0] = 2;
+    st.vertex[1] = 2;
+    st.counts = &c;
+    api__trace_step(&f, &st);
+    vor__step_init(&st, VOR_STEP_SITE);
+    st.site = 2;
+    st.y = 0.5;
+    st.at = 1;
+    st.arc = 0;
+    st.counts = &c;
+    api__trace_step(&f, &st);
+    vor__step_init(&st, VOR_STEP_SCHEDULE);
+    st.tri[0] = 0, st.tri[1] = 2, st.tri[2] = 1;
+    st.y = INFINITY; /* an overflowing top is written as null */
+    st.vertex[0] = 2;
+    st.vertex[1] = -1.5;
+    st.counts = &c;
+    api__trace_step(&f, &st);
+    st.kind = VOR_STEP_CANCEL;
+    api__trace_step(&f, &st);
+    vor__step_init(&st, VOR_STEP_CIRCLE);
+    st.tri[0] = 0, st.tri[1] = 2, st.tri[2] = 1;
+    st.y = 1;
+    st.at = 1;
+    st.counts = &c;
+    api__trace_step(&f, &st);
+    api_buf_printf(&doc, "[%s]", out.data);
+    j = json_loadb(doc.data, doc.len, JSON_REJECT_DUPLICATES, &err);
+    if (j == NULL) fail_msg("steps are not JSON: %s: %s", err.text, doc.data);
+    assert_int_equal(json_array_size(j), 6);
+    o = json_array_get(j, 0);
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "beach"), 1)), 2);
+    o = json_array_get(j, 1);
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "breakpoint"), 1)), 2);
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "triangle"), 2)), 3);
+    assert_true(json_number_value(json_array_get(json_object_get(o, "vertex"), 0)) == 2);
+    assert_null(json_object_get(o, "arc"));
+    o = json_array_get(j, 2);
+    assert_int_equal(json_integer_value(json_object_get(o, "arc")), 0);
+    assert_int_equal(json_integer_value(json_object_get(o, "at")), 1);
+    assert_null(json_object_get(o, "breakpoint"));
+    o = json_array_get(j, 3);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "schedule");
+    assert_true(json_is_null(json_object_get(o, "y")));
+    assert_int_equal(json_integer_value(json_array_get(json_object_get(o, "arcs"), 1)), 3);
+    assert_string_equal(json_string_value(json_object_get(json_array_get(j, 4), "kind")),
+                        "cancel");
+    o = json_array_get(j, 5);
+    assert_string_equal(json_string_value(json_object_get(o, "kind")), "circle");
+    assert_int_equal(json_integer_value(json_object_get(o, "at")), 1);
+    json_decref(j);
+    api_buf_clear(&out);
+    api_buf_clear(&doc);
+}
+
 static void test_out_of_memory(void **state) {
     (void)state;
     api_result res = tri_result();
@@ -336,6 +568,10 @@ static void test_compare_document(void **state) {
     assert_int_equal(json_integer_value(json_object_get(b, "n_edges")), 3);
     assert_int_equal(json_integer_value(json_object_get(b, "n_vertices")), 1);
     rc_check_timings(json_object_get(b, "timings"));
+    for (int a = 1; a < VOR_ALGORITHM_COUNT; a++)
+        rc_check_counts(json_object_get(json_array_get(algos, (size_t)a), "counts"),
+                        &c.res[a].counts, (vor_algorithm)a);
+    assert_null(json_object_get(f, "counts")); /* failed: nothing counted */
     rc_check_timings(json_object_get(j, "timings"));
     assert_true(json_number_value(json_object_get(json_object_get(j, "timings"),
                                                   "parse_ms")) == 3);
@@ -403,6 +639,9 @@ int main(void) {
         cmocka_unit_test(test_svg),
         cmocka_unit_test(test_binary),
         cmocka_unit_test(test_timings_only),
+        cmocka_unit_test(test_timings_with_counts),
+        cmocka_unit_test(test_json_trace_member),
+        cmocka_unit_test(test_trace_steps),
         cmocka_unit_test(test_timings_digits),
         cmocka_unit_test(test_out_of_memory),
         cmocka_unit_test(test_compare_document),
