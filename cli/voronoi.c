@@ -47,8 +47,10 @@ static const char usage_text[] =
     "                       clip the diagram to this box (adds \"clipped\" to\n"
     "                       the JSON unless --include says otherwise)\n"
     "  -c, --compare        run all three algorithms and write a JSON table of\n"
-    "                       their timings and counts, and whether their\n"
-    "                       diagrams are identical (\"agree\")\n"
+    "                       their timings and operation counts, and whether\n"
+    "                       their diagrams are identical (\"agree\")\n"
+    "      --trace          add the algorithm's steps to the JSON result\n"
+    "                       (\"trace\": {\"steps\": [...]}; at most 2000 points)\n"
     "\n"
     "Output:\n"
     "  -f, --format FMT     json (default), geojson (cells as polygons, clipped\n"
@@ -58,7 +60,8 @@ static const char usage_text[] =
     "                       the timings object, in milliseconds)\n"
     "      --include PARTS  comma-separated parts of the JSON result: vertices,\n"
     "                       edges, cells (the default three), triangles, sites,\n"
-    "                       clipped\n"
+    "                       clipped, counts (the algorithm's operation counts;\n"
+    "                       also with --format timings)\n"
     "  -h, --help           show this text\n"
     "\n"
     "Indices in the output are input indices (positions in the input; a\n"
@@ -194,6 +197,7 @@ int main(int argc, char **argv) {
         {"help", no_argument, NULL, 'h'},
         {"include", required_argument, NULL, 'I'},
         {"input", required_argument, NULL, 'i'},
+        {"trace", no_argument, NULL, 'T'},
         {NULL, 0, NULL, 0},
     };
     api_request r;
@@ -212,12 +216,13 @@ int main(int argc, char **argv) {
     int opt;
     opterr = 0;
     while ((opt = getopt_long(argc, argv, ":a:b:cf:g:hi:", longopts, NULL)) != -1) {
-        const char *key = NULL;
+        const char *key = NULL, *value = optarg;
         switch (opt) {
         case 'a': key = "algorithm"; break;
         case 'b': key = "bounds"; break;
         case 'f': key = "format"; break;
         case 'I': key = "include"; break;
+        case 'T': key = "trace"; value = "true"; break;
         case 'c': compare = 1; break;
         case 'g': generate = optarg; break;
         case 'i':
@@ -231,14 +236,14 @@ int main(int argc, char **argv) {
         default: usage_error("unknown option %s", argv[optind - 1]); break;
         }
         if (key) {
-            if (api_request_option(&r, key, optarg, &p) != API_OK) {
+            if (api_request_option(&r, key, value, &p) != API_OK) {
                 usage_error("%s", p.detail);
             }
             if (n_given == (int)(sizeof given / sizeof given[0])) {
                 usage_error("%s", "too many options");
             }
             given[n_given].key = key;
-            given[n_given++].value = optarg;
+            given[n_given++].value = value;
         }
     }
     if (argc - optind > 1) usage_error("one input at most, got also \"%s\"", argv[optind + 1]);

@@ -334,8 +334,14 @@ static void test_compare(void **state) {
     assert_int_equal(json_array_size(algos), 3);
     int all_ok = 1;
     for (size_t i = 0; i < 3; i++) {
-        const char *st = json_string_value(json_object_get(json_array_get(algos, i), "status"));
+        json_t *a = json_array_get(algos, i);
+        const char *st = json_string_value(json_object_get(a, "status"));
         all_ok &= strcmp(st, "ok") == 0;
+        /* every algorithm's counts: Fortune sees each of the 300 sites */
+        json_t *c = json_object_get(a, "counts");
+        assert_true(json_is_object(c));
+        if (i == 0) assert_int_equal(json_integer_value(json_object_get(c, "site_events")), 300);
+        else assert_true(json_integer_value(json_object_get(c, "incircle")) > 0);
     }
     /* The algorithms must agree whenever all of them ran. */
     assert_true(json_is_boolean(json_object_get(j, "agree")));
@@ -347,6 +353,48 @@ static void test_compare(void **state) {
     run_free(&r);
     r = RUN(NULL, "--compare", "-f", "svg", "-g", "uniform:3");
     expect_status(&r, 2);
+    run_free(&r);
+}
+
+static void test_trace_and_counts(void **state) {
+    (void)state;
+    NEED_CLI();
+    run r = RUN(NULL, "--trace", "-a", "flip", "--include", "counts", "-g", "grid:9");
+    expect_status(&r, 0);
+    json_t *j = json_out(&r);
+    json_t *steps = json_object_get(json_object_get(j, "trace"), "steps");
+    assert_true(json_array_size(steps) >= 9); /* order, begin, 6 inserts, end */
+    assert_string_equal(json_string_value(json_object_get(json_array_get(steps, 0), "kind")),
+                        "order");
+    assert_string_equal(json_string_value(json_object_get(
+                            json_array_get(steps, json_array_size(steps) - 1), "kind")),
+                        "end");
+    /* a grid: every insertion hits an edge or a cocircular quadruple */
+    assert_true(json_integer_value(json_object_get(json_object_get(j, "counts"), "exact")) > 0);
+    assert_null(json_object_get(j, "edges")); /* include names the parts */
+    json_decref(j);
+    run_free(&r);
+
+    r = RUN(NULL, "-g", "grid:16", "--format", "timings", "--include", "counts");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "counts"),
+                                                        "site_events")),
+                     16);
+    json_decref(j);
+    run_free(&r);
+
+    r = RUN(NULL, "--trace", "-g", "uniform:2001");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "at most 2000 points can be traced, this request has 2001"));
+    run_free(&r);
+    r = RUN(NULL, "--trace", "--compare", "-g", "uniform:20");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "/compare does not trace"));
+    run_free(&r);
+    r = RUN(NULL, "--trace", "-f", "svg", "-g", "uniform:20");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "trace is written in JSON only"));
     run_free(&r);
 }
 
@@ -425,7 +473,8 @@ static void test_usage_errors(void **state) {
     expect_status(&r, 0);
     static const char *const documented[] = {"--algorithm", "--bounds", "--format",
                                              "--input", "--include", "--generate",
-                                             "--compare", "timings", "Exit status"};
+                                             "--compare", "timings", "--trace",
+                                             "counts", "Exit status"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++) {
         if (strstr(r.out, documented[i]) == NULL) fail_msg("--help lacks %s", documented[i]);
     }
@@ -439,6 +488,7 @@ int main(void) {
         cmocka_unit_test(test_binary_file),
         cmocka_unit_test(test_generate_and_formats),
         cmocka_unit_test(test_compare),
+        cmocka_unit_test(test_trace_and_counts),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_usage_errors),
     };
