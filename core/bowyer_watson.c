@@ -88,7 +88,7 @@ static inline uint32_t site_of(const bw *st, uint32_t v) {
 }
 
 /* Writes triangle a, b, c (local ids) as site numbers to out[0..2]. */
-static void put_sites(const bw *st, uint32_t *out, uint32_t a, uint32_t b,
+VOR__COLD static void put_sites(const bw *st, uint32_t *out, uint32_t a, uint32_t b,
                       uint32_t c) {
     out[0] = site_of(st, a);
     out[1] = site_of(st, b);
@@ -109,8 +109,8 @@ static void counts_now(const bw *st, vor_counts *c) {
 /* The INSERT step of vertex p: the first ncav entries of cav are its
  * cavity, whose triangles the search wrote to st->steps as it found
  * them; the star is in the slots cav[0..nb-1] now. */
-static void trace_insert(bw *st, uint32_t p, const uint32_t *cav,
-                         size_t ncav, size_t nb) {
+VOR__COLD static void trace_insert(bw *st, uint32_t p, const uint32_t *cav,
+                                   size_t ncav, size_t nb) {
     const uint32_t *tri = st->m->tri;
     uint32_t *star = st->steps + 3 * st->cap;
     for (size_t i = 0; i < nb; i++) {
@@ -143,7 +143,7 @@ static vor_status insert(bw *st, uint32_t p) {
     uint32_t t0 = vor__mesh_locate(m, xy, p, &st->w, &on_edge);
     (void)on_edge; /* a triangle with p on an edge is in conflict too */
     const int tracing = st->run->trace != NULL;
-    uint64_t incircle = 0, orient2d = 0;
+    uint64_t ghosts = 0; /* ghost tests, orientation only */
 
     /* Cavity search: a walk around the boundary of the cavity, which is a
      * tree of triangles (a depth-first tour without a stack). Being at
@@ -194,7 +194,6 @@ static vor_status insert(bw *st, uint32_t p) {
             /* no vertex is the ghost: site ids are < 2^30 (mesh.h) */
             in = vor__incircle_static_n(XY(a), XY(b), XY(c), pp, st->w.icc,
                                         &st->w.exact) > 0;
-            incircle++;
         } else {
             if (c == VOR__GHOST) {
                 in = vor__ghost_conflict_n(XY(a), XY(b), pp, &st->w.exact);
@@ -203,7 +202,7 @@ static vor_status insert(bw *st, uint32_t p) {
             } else {
                 in = vor__ghost_conflict_n(XY(c), XY(a), pp, &st->w.exact);
             }
-            orient2d++;
+            ghosts++;
         }
         if (in) {
             if (tracing)
@@ -250,8 +249,10 @@ static vor_status insert(bw *st, uint32_t p) {
         t = u;
     }
     st->w.tri = cav[0];
-    st->w.incircle += incircle;
-    st->w.orient2d += orient2d;
+    /* every triangle met but t0 and the marked ones was tested: the
+     * cavity's ncav - 3 found ones and the nb boundary ones */
+    st->w.incircle += ncav - 3 + nb - ghosts;
+    st->w.orient2d += ghosts;
     st->removed += ncav - 2;
     st->created += nb;
     if (tracing)

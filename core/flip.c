@@ -57,6 +57,7 @@ typedef struct flipper {
     uint32_t *steps;       /* with a trace: its scratch, tcap words */
     size_t tcap;
     uint32_t located[3];   /* with a trace: where location ended (sites) */
+    int tracing;           /* run->trace is set */
 } flipper;
 
 /* Reserves room for k more stack entries. */
@@ -122,11 +123,24 @@ static void counts_now(const flipper *st, uint64_t tests, uint64_t flips,
     c->triangles_created += st->created + 2 * (st->flips + flips);
 }
 
+/* Notes where location ended (triangle t, p on its half-edge on_edge or
+ * -1) and the triangles a split would replace, before it rewrites them.
+ * -1 if out of memory. */
+VOR__COLD static int trace_located(flipper *st, uint32_t t, int32_t on_edge) {
+    if (trace_reserve(st, 4))
+        return -1;
+    put_triangle(st, st->located, t);
+    put_triangle(st, st->steps, t);
+    if (on_edge >= 0)
+        put_triangle(st, st->steps + 3, (uint32_t)st->m->adj[on_edge] / 3);
+    return 0;
+}
+
 /* Reports the INSERT step of p: the cavity of ncav triangles already in
  * st->steps, the star the triangles star[0..nstar-1]. */
-static void trace_insert(flipper *st, uint32_t p, vor_split split,
-                         const uint32_t *edge, size_t ncav,
-                         const uint32_t *star, size_t nstar) {
+VOR__COLD static void trace_insert(flipper *st, uint32_t p, vor_split split,
+                                   const uint32_t *edge, size_t ncav,
+                                   const uint32_t *star, size_t nstar) {
     uint32_t *out = st->steps + st->tcap / 2;
     for (size_t i = 0; i < nstar; i++) put_triangle(st, out + 3 * i, star[i]);
     vor_counts c;
@@ -183,7 +197,7 @@ static void split3(flipper *st, uint32_t t, uint32_t p) {
     st->stack[st->n++] = 3 * n2;
     st->w.tri = t;
     st->created += 3;
-    if (st->run->trace) {
+    if (st->tracing) {
         const uint32_t star[3] = {t, n1, n2};
         trace_insert(st, p, VOR_SPLIT_TRIANGLE, NULL, 1, star, 3);
     }
@@ -236,7 +250,7 @@ static void split4(flipper *st, uint32_t e, uint32_t p) {
     }
     st->w.tri = e / 3;
     st->created += 4;
-    if (st->run->trace) {
+    if (st->tracing) {
         const uint32_t star[4] = {e / 3, t2, f / 3, u2}, edge[2] = {a, b};
         trace_insert(st, p, VOR_SPLIT_EDGE, edge, 2, star, 4);
     }
@@ -286,7 +300,7 @@ static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
     }
     if (reserve(st, k))
         return VOR_ENOMEM;
-    const int tracing = st->run->trace != NULL;
+    const int tracing = st->tracing;
     if (tracing) {
         if (trace_reserve(st, k + 2))
             return VOR_ENOMEM;
@@ -368,8 +382,9 @@ static void flip(int32_t *adj, uint32_t *tri, uint32_t e, uint32_t f,
 
 /* Reports the flip of edge a-b of (a, b, p) to p-d; tests and flips are
  * legalise's so far. */
-static void trace_flip(flipper *st, uint32_t a, uint32_t b, uint32_t p,
-                       uint32_t d, uint64_t tests, uint64_t flips) {
+VOR__COLD static void trace_flip(flipper *st, uint32_t a, uint32_t b,
+                                 uint32_t p, uint32_t d, uint64_t tests,
+                                 uint64_t flips) {
     vor_counts c;
     counts_now(st, tests, flips, &c);
     vor_step step;
@@ -417,7 +432,7 @@ static vor_status legalise(flipper *st, uint32_t p) {
         }
         flip(adj, tri, e, f, p);
         flips++;
-        if (st->run->trace)
+        if (st->tracing)
             trace_flip(st, a, b, p, d, tests, flips);
         stack[n++] = e;
         stack[n++] = f;
@@ -433,15 +448,8 @@ static vor_status insert(flipper *st, uint32_t p) {
     int32_t on_edge;
     assert(m->n_tri + 2 <= m->cap_tri);
     uint32_t t = vor__mesh_locate(m, st->xy, p, &st->w, &on_edge);
-    if (st->run->trace) {
-        /* the triangles a split replaces, before it rewrites them */
-        if (trace_reserve(st, 4))
-            return VOR_ENOMEM;
-        put_triangle(st, st->located, t);
-        put_triangle(st, st->steps, t);
-        if (on_edge >= 0)
-            put_triangle(st, st->steps + 3, (uint32_t)m->adj[on_edge] / 3);
-    }
+    if (st->tracing && trace_located(st, t, on_edge))
+        return VOR_ENOMEM;
     if (vor__mesh_is_ghost(m->tri, t)) {
         if (hull_insert(st, t, p))
             return VOR_ENOMEM;
@@ -461,7 +469,8 @@ static vor_status insert(flipper *st, uint32_t p) {
 static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
                         double **pxy, vor__run *run) {
     double *xy;
-    flipper st = {.m = m, .run = run, .order = order};
+    flipper st = {.m = m, .run = run, .order = order,
+                  .tracing = run->trace != NULL};
     *pxy = NULL;
     vor_status r = vor__mesh_begin(m, s->xy, s->n, order, &xy, &st.w);
     if (r != VOR_OK)

@@ -209,6 +209,7 @@ typedef struct sweep {
      * scratch array of cap_beach sites. */
     vor_counts cnt;
     uint32_t n_beach;
+    int tracing; /* run->trace is set */
     vor__run *run;
     const vor_sites *s;
     uint32_t leftmost;
@@ -897,12 +898,14 @@ static void remove_arc(sweep *w, uint32_t z) {
 /* Side of p (on the sweep line) against arc x's left breakpoint: > 0 if
  * the breakpoint is left of p (or x is the leftmost arc), < 0 if right of
  * it, 0 if exactly above p. */
-static inline int bp_side(sweep *w, uint32_t x, const double *p) {
+static inline int bp_side(const sweep *w, uint32_t x, const double *p,
+                          uint64_t *leftmost, uint64_t *slow) {
     const arc *ax = &w->arcs[x];
-    w->cnt.breakpoint_tests += ax->prev != NIL;
-    return ax->prev == NIL ? 1
-                           : vor__fortune_bp_side_n(ax->lxy, ax->xy, p, w->safe,
-                                                    &w->cnt.breakpoint_exact);
+    if (ax->prev == NIL) {
+        ++*leftmost; /* no breakpoint tested */
+        return 1;
+    }
+    return vor__fortune_bp_side_n(ax->lxy, ax->xy, p, w->safe, slow);
 }
 
 /* The arc above site p (sweep line at p.y): the last arc whose left
@@ -911,9 +914,12 @@ static inline int bp_side(sweep *w, uint32_t x, const double *p) {
 static uint32_t locate(sweep *w, const double *p, int *on) {
     const arc *arcs = w->arcs;
     uint32_t x = w->root, found = NIL;
+    /* arcs visited, the leftmost among them, the slow tests */
+    uint64_t visited = 0, leftmost = 0, slow = 0;
     *on = 0;
     while (x != NIL) {
-        int side = bp_side(w, x, p);
+        visited++;
+        int side = bp_side(w, x, p, &leftmost, &slow);
         if (side > 0) {
             found = x;
             x = arcs[x].right;
@@ -921,17 +927,22 @@ static uint32_t locate(sweep *w, const double *p, int *on) {
             x = arcs[x].left;
         } else {
             *on = 1;
-            return x;
+            found = x;
+            break;
         }
     }
+    w->cnt.breakpoint_tests += visited - leftmost;
+    w->cnt.breakpoint_exact += slow;
     assert(found != NIL);
     return found;
 }
 
 /* ---- Trace -----------------------------------------------------------------
- * With a trace (run->trace), each event reports a step (vor.h) in site
- * indices: orig[] maps the sorted ids. Coordinates for drawing come from
- * the input, not the rescaled copy. Only called when tracing. */
+ * With a trace (run->trace, w->tracing), each event reports a step (vor.h)
+ * in site indices: orig[] maps the sorted ids. Coordinates for drawing
+ * come from the input, not the rescaled copy. Only called when tracing,
+ * and kept out of line (VOR__COLD) so that the events' code stays as it
+ * is without a trace. */
 
 /* The counts so far into c; exact is the sum of the sweep's three. */
 static const vor_counts *counts_now(const sweep *w, vor_counts *c) {
@@ -943,7 +954,8 @@ static const vor_counts *counts_now(const sweep *w, vor_counts *c) {
 }
 
 /* Reports a SCHEDULE or CANCEL step for the sorted triple t. */
-static void trace_event(sweep *w, vor_step_kind kind, const uint32_t *t) {
+VOR__COLD static void trace_event(sweep *w, vor_step_kind kind,
+                                  const uint32_t *t) {
     vor_step st;
     vor_counts c;
     vor__step_init(&st, kind);
@@ -979,6 +991,62 @@ static uint32_t trace_beach(sweep *w, vor_step *st, uint32_t x,
     st->beach = w->beach;
     st->n_beach = k;
     return at;
+}
+
+/* Reports the SITE step of site i, whose new arc s is on the beach line:
+ * it split the arc of sorted site arc_site (split), or it lies below the
+ * breakpoint of the arcs of l and r. */
+VOR__COLD static vor_status trace_site(sweep *w, uint32_t i, uint32_t s,
+                                       int split, uint32_t arc_site,
+                                       uint32_t l, uint32_t r) {
+    vor_step t;
+    vor_counts c;
+    vor_status st;
+    vor__step_init(&t, VOR_STEP_SITE);
+    t.counts = counts_now(w, &c);
+    t.site = w->orig[i];
+    t.y = w->s->xy[2 * (size_t)t.site + 1];
+    if (split) {
+        t.arc = w->orig[arc_site];
+    } else {
+        t.breakpoint[0] = t.tri[0] = w->orig[l];
+        t.breakpoint[1] = t.tri[1] = w->orig[r];
+        t.tri[2] = t.site;
+        double top;
+        vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &top);
+    }
+    t.at = trace_beach(w, &t, s, &st);
+    if (st != VOR_OK) return st;
+    w->run->trace(w->run->trace_ctx, &t);
+    return VOR_OK;
+}
+
+/* Position of arc b on the beach line (before a circle event removes
+ * it). */
+VOR__COLD static uint32_t trace_position(const sweep *w, uint32_t b) {
+    uint32_t k = 0;
+    for (uint32_t a = w->leftmost; a != b; a = ARC(a).next) k++;
+    return k;
+}
+
+/* Reports the CIRCLE step of the arcs of sorted sites a, b, c, where b's
+ * arc was at position at; the beach line is the one after. */
+VOR__COLD static vor_status trace_circle(sweep *w, uint32_t a, uint32_t b,
+                                         uint32_t c, uint32_t at) {
+    vor_step t;
+    vor_counts now;
+    vor_status st;
+    vor__step_init(&t, VOR_STEP_CIRCLE);
+    t.counts = counts_now(w, &now);
+    t.tri[0] = w->orig[a];
+    t.tri[1] = w->orig[b];
+    t.tri[2] = w->orig[c];
+    vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &t.y);
+    t.at = at;
+    (void)trace_beach(w, &t, NIL, &st);
+    if (st != VOR_OK) return st;
+    w->run->trace(w->run->trace_ctx, &t);
+    return VOR_OK;
 }
 
 /* ---- Event records and the heap ------------------------------------------ */
@@ -1328,8 +1396,10 @@ static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *z = &w->arcs[x->next];
     if (ARC(x->prev).site == z->site) return 0;
     w->cnt.circle_tops++;
-    return vor__fortune_circle_top_n(x->lxy, x->xy, z->xy, w->safe, lo, hi,
-                                     &w->cnt.circle_top_exact) > 0;
+    *lo = 0; /* -inf after the call: floating point did not settle it */
+    int o = vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi);
+    if (*lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
+    return o > 0;
 }
 
 /* Fills record r for arc b's current triple. */
@@ -1353,7 +1423,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     rec_fill(w, r, b);
     q_insert(w, (event){lo, hi, r});
     ARC(b).ev = r;
-    if (w->run->trace) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
 }
 
@@ -1364,7 +1434,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     uint32_t r = ARC(b).ev;
     if (r == NO_EVENT) return add_event(w, b);
     w->cnt.false_alarms++; /* the old triple's event will not happen */
-    if (w->run->trace) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
     double lo, hi;
     if (!event_of(w, b, &lo, &hi)) {
         drop_event(w, b);
@@ -1372,7 +1442,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     }
     rec_fill(w, r, b);
     q_update(w, (event){lo, hi, r});
-    if (w->run->trace) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
 }
 
@@ -1406,18 +1476,9 @@ static vor_status site_event(sweep *w, uint32_t i) {
         insert_after(w, s, b2);
         w->n_beach += 2;
         if (w->n_beach > w->cnt.beach_max) w->cnt.beach_max = w->n_beach;
-        if (w->run->trace) {
-            vor_step t;
-            vor_counts c;
-            vor__step_init(&t, VOR_STEP_SITE);
-            t.counts = counts_now(w, &c);
-            t.site = w->orig[i];
-            t.y = w->s->xy[2 * (size_t)t.site + 1];
-            t.arc = w->orig[ARC(b).site];
-            t.at = trace_beach(w, &t, s, &st);
-            if (st != VOR_OK) return st;
-            w->run->trace(w->run->trace_ctx, &t);
-        }
+        if (w->tracing &&
+            (st = trace_site(w, i, s, 1, ARC(b).site, 0, 0)) != VOR_OK)
+            return st;
         if ((st = renew_event(w, b)) != VOR_OK) return st;
         return add_event(w, b2);
     }
@@ -1435,22 +1496,9 @@ static vor_status site_event(sweep *w, uint32_t i) {
     insert_after(w, l, s);
     w->cnt.breakpoint_hits++;
     if (++w->n_beach > w->cnt.beach_max) w->cnt.beach_max = w->n_beach;
-    if (w->run->trace) {
-        vor_step t;
-        vor_counts c;
-        vor__step_init(&t, VOR_STEP_SITE);
-        t.counts = counts_now(w, &c);
-        t.site = w->orig[i];
-        t.y = w->s->xy[2 * (size_t)t.site + 1];
-        t.breakpoint[0] = t.tri[0] = w->orig[ARC(l).site];
-        t.breakpoint[1] = t.tri[1] = w->orig[ARC(r).site];
-        t.tri[2] = t.site;
-        double top;
-        vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &top);
-        t.at = trace_beach(w, &t, s, &st);
-        if (st != VOR_OK) return st;
-        w->run->trace(w->run->trace_ctx, &t);
-    }
+    if (w->tracing &&
+        (st = trace_site(w, i, s, 0, 0, ARC(l).site, ARC(r).site)) != VOR_OK)
+        return st;
     if ((st = renew_event(w, l)) != VOR_OK) return st;
     return renew_event(w, r);
 }
@@ -1470,25 +1518,13 @@ static vor_status circle_event(sweep *w, uint32_t b) {
     edge_end(w, ARC(a).edge, h + 2);
     vor_status st;
     w->cnt.circle_events++;
-    if (w->run->trace) {
-        vor_step t;
-        vor_counts now;
-        vor__step_init(&t, VOR_STEP_CIRCLE);
-        t.counts = counts_now(w, &now);
-        t.tri[0] = w->orig[ARC(a).site];
-        t.tri[1] = w->orig[ARC(b).site];
-        t.tri[2] = w->orig[ARC(c).site];
-        vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &t.y);
-        t.at = trace_beach(w, &t, b, &st); /* the position before */
-        if (st != VOR_OK) return st;
-        remove_arc(w, b);
-        w->n_beach--;
-        (void)trace_beach(w, &t, NIL, &st); /* the beach line after */
-        w->run->trace(w->run->trace_ctx, &t);
-    } else {
-        remove_arc(w, b);
-        w->n_beach--;
-    }
+    uint32_t at = w->tracing ? trace_position(w, b) : 0;
+    remove_arc(w, b);
+    w->n_beach--;
+    if (w->tracing &&
+        (st = trace_circle(w, ARC(a).site, ARC(b).site, ARC(c).site, at)) !=
+            VOR_OK)
+        return st;
     arc_free(w, b);
     st = renew_event(w, a);
     if (st != VOR_OK) return st;
@@ -1544,7 +1580,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     w->n_beach = (uint32_t)i;
     w->cnt.beach_max = i;
     w->cnt.site_events = i;
-    if (w->run->trace) {
+    if (w->tracing) {
         vor_step t;
         vor_status st;
         vor_counts c;
@@ -1652,6 +1688,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     memset(&w, 0, sizeof w);
     w.n = s->n;
     w.run = run;
+    w.tracing = run->trace != NULL;
     w.s = s;
     vor_status st;
     double scale = choose_scale(s, &w.safe, &w.lattice);

@@ -329,13 +329,6 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  * final test turns into "no bound". */
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi) {
-    uint64_t unread = 0;
-    return vor__fortune_circle_top_n(a, b, c, safe, lo, hi, &unread);
-}
-
-int vor__fortune_circle_top_n(const double *a, const double *b,
-                              const double *c, int safe, double *lo,
-                              double *hi, uint64_t *undecided) {
     double bx = b[0] - a[0], by = b[1] - a[1];
     double cx = c[0] - a[0], cy = c[1] - a[1];
     int e = 0;
@@ -387,15 +380,14 @@ int vor__fortune_circle_top_n(const double *a, const double *b,
     *hi = t + err;
     return 1;
 undecided: {
-    ++*undecided;
-    int o = vor_orient2d(a, b, c);
-    if (o <= 0) return o;
+    /* the interval is set whatever the orientation: a caller may count
+     * the triples floating point could not settle */
     *lo = -INFINITY;
     *hi = INFINITY;
-    return 1;
+    int o = vor_orient2d(a, b, c);
+    if (o <= 0) return o;
 }
 unknown:
-    ++*undecided;
     *lo = -INFINITY;
     *hi = INFINITY;
     return 1;

@@ -120,17 +120,15 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
  * +1 an interval [*lo, *hi] that provably contains the y of the top of the
  * circle through a, b, c. When no useful bound can be proven (nearly
  * collinear sites, results outside the double range) the interval is
- * [-inf, +inf]. The orientation comes from the same determinant as the
- * circle, so the common case costs one evaluation. safe: as above, lets the
- * filter skip its per-call rescaling. Never fails. */
+ * [-inf, +inf]; so is it, whatever the result, when floating point cannot
+ * settle the orientation (exact orient2d decides then), while a result
+ * below +1 found in floating point leaves *lo and *hi alone. The
+ * orientation comes from the same determinant as the circle, so the common
+ * case costs one evaluation. safe: as above, lets the filter skip its
+ * per-call rescaling. Never fails. */
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi);
-/* The same, adding 1 to *undecided when floating point could settle
- * neither the orientation (exact orient2d then decides) nor, for +1, a
- * finite interval. */
-int vor__fortune_circle_top_n(const double *a, const double *b,
-                              const double *c, int safe, double *lo,
-                              double *hi, uint64_t *undecided);
+
 
 /* 1 if site s comes strictly before the circle event of a, b, c
  * (orient2d(a, b, c) > 0) in sweep order, 0 if the event comes first.

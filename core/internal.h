@@ -145,6 +145,14 @@ void vor__mesh_clear(vor__mesh *m);
 int vor__mesh_check(const vor__mesh *m, const vor_sites *s, char *msg,
                     size_t msg_size);
 
+/* Marks a function that runs only when tracing (or on other rare paths):
+ * kept out of line and out of the hot code's way. */
+#if defined(__GNUC__)
+#define VOR__COLD __attribute__((cold, noinline))
+#else
+#define VOR__COLD
+#endif
+
 /* ---- Counts and steps (core/trace.c) ---------------------------------------
  * Every count of from added to to's. */
 void vor__counts_add(vor_counts *to, const vor_counts *from);

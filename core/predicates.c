@@ -66,6 +66,16 @@ int vor_incircle(const double *a, const double *b, const double *c,
     return vor__incircle_fast(a, b, c, d);
 }
 
+int vor__orient2d_counted(const double *a, const double *b, const double *c,
+                          uint64_t *exact) {
+    return vor__orient2d_fast_n(a, b, c, exact);
+}
+
+int vor__incircle_counted(const double *a, const double *b, const double *c,
+                          const double *d, uint64_t *exact) {
+    return vor__incircle_fast_n(a, b, c, d, exact);
+}
+
 /* ---- Error-free transformations ------------------------------------------ */
 
 /* s + e == a + b exactly, s = fl(a + b) (Knuth's two-sum; no branch on the

@@ -153,15 +153,33 @@ static inline int vor__incircle_filter(const double *a, const double *b,
     return under <= perm * VOR__ICC_UNDER ? s : 0;
 }
 
-/* Each predicate below has a counting form, name_n, with one more
- * argument: it adds 1 to *exact when the call is handed to the out-of-line
- * exact routines (the inline filters could not decide), and is otherwise
- * the same function; the plain form is the counting one with a counter
- * nobody reads, which the compiler removes. The counter is touched only on
- * that rare path, so the algorithms count their exact calls
- * (vor_counts.exact) at no measurable cost. */
-
 /* Exact orient2d with the filter inlined; see vor_orient2d. */
+static inline int vor__orient2d_fast(const double *a, const double *b,
+                                     const double *c) {
+    int s = vor__orient2d_filter(a, b, c);
+    return s ? s : vor__orient2d_exact(a, b, c);
+}
+
+/* Exact incircle with the filter inlined; see vor_incircle. */
+static inline int vor__incircle_fast(const double *a, const double *b,
+                                     const double *c, const double *d) {
+    int s = vor__incircle_filter(a, b, c, d);
+    return s ? s : vor__incircle_exact(a, b, c, d);
+}
+
+/* ---- Counting forms -----------------------------------------------------------
+ * name_n is name with one more argument: it adds 1 to *exact when the call
+ * is handed to the out-of-line exact routines (the inline filters could not
+ * decide), so that the algorithms count their exact calls
+ * (vor_counts.exact). The inline part is the same filter; the counter is
+ * passed only to the out-of-line call behind it (vor__orient2d_counted,
+ * vor__incircle_counted: the dynamic filter, then the exact routine, in
+ * predicates.c), so the common path does not carry it. */
+int vor__orient2d_counted(const double *a, const double *b, const double *c,
+                          uint64_t *exact);
+int vor__incircle_counted(const double *a, const double *b, const double *c,
+                          const double *d, uint64_t *exact);
+
 static inline int vor__orient2d_fast_n(const double *a, const double *b,
                                        const double *c, uint64_t *exact) {
     int s = vor__orient2d_filter(a, b, c);
@@ -170,13 +188,6 @@ static inline int vor__orient2d_fast_n(const double *a, const double *b,
     return vor__orient2d_exact(a, b, c);
 }
 
-static inline int vor__orient2d_fast(const double *a, const double *b,
-                                     const double *c) {
-    uint64_t unread = 0;
-    return vor__orient2d_fast_n(a, b, c, &unread);
-}
-
-/* Exact incircle with the filter inlined; see vor_incircle. */
 static inline int vor__incircle_fast_n(const double *a, const double *b,
                                        const double *c, const double *d,
                                        uint64_t *exact) {
@@ -184,12 +195,6 @@ static inline int vor__incircle_fast_n(const double *a, const double *b,
     if (s) return s;
     ++*exact;
     return vor__incircle_exact(a, b, c, d);
-}
-
-static inline int vor__incircle_fast(const double *a, const double *b,
-                                     const double *c, const double *d) {
-    uint64_t unread = 0;
-    return vor__incircle_fast_n(a, b, c, d, &unread);
 }
 
 /* ---- Incircle with a static bound ------------------------------------------
@@ -226,9 +231,10 @@ static inline double vor__incircle_static_bound(double span) {
 
 /* Same result as vor_incircle(a, b, c, d), for points whose coordinate
  * differences are within the span that bound s was made for. */
-static inline int vor__incircle_static_n(const double *a, const double *b,
-                                         const double *c, const double *d,
-                                         double s, uint64_t *exact) {
+/* The sign from the static bound alone, 0 when it cannot decide. */
+static inline int vor__incircle_static_filter(const double *a, const double *b,
+                                              const double *c, const double *d,
+                                              double s) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double alift = adx * adx + ady * ady;
@@ -237,15 +243,22 @@ static inline int vor__incircle_static_n(const double *a, const double *b,
     double det = alift * (bdx * cdy - cdx * bdy) +
                  blift * (cdx * ady - adx * cdy) +
                  clift * (adx * bdy - bdx * ady);
-    int r = (det > s) - (det < -s); /* no branch on the sign */
-    return r ? r : vor__incircle_fast_n(a, b, c, d, exact);
+    return (det > s) - (det < -s); /* no branch on the sign */
 }
 
 static inline int vor__incircle_static(const double *a, const double *b,
                                        const double *c, const double *d,
                                        double s) {
-    uint64_t unread = 0;
-    return vor__incircle_static_n(a, b, c, d, s, &unread);
+    int r = vor__incircle_static_filter(a, b, c, d, s);
+    return r ? r : vor__incircle_fast(a, b, c, d);
+}
+
+/* The counting form (see "Counting forms" above). */
+static inline int vor__incircle_static_n(const double *a, const double *b,
+                                         const double *c, const double *d,
+                                         double s, uint64_t *exact) {
+    int r = vor__incircle_static_filter(a, b, c, d, s);
+    return r ? r : vor__incircle_counted(a, b, c, d, exact);
 }
 
 /* orient2d the same way: |l| + |r| <= 2 M^2, so S = VOR__CCW_BOUND * 4 M^2
@@ -263,18 +276,25 @@ static inline double vor__orient2d_static_bound(double span) {
 
 /* Same result as vor_orient2d(a, b, c), for points whose coordinate
  * differences are within the span that bound s was made for. */
-static inline int vor__orient2d_static_n(const double *a, const double *b,
-                                         const double *c, double s,
-                                         uint64_t *exact) {
+/* The sign from the static bound alone, 0 when it cannot decide. */
+static inline int vor__orient2d_static_filter(const double *a, const double *b,
+                                              const double *c, double s) {
     double det = (a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0]);
-    int r = (det > s) - (det < -s); /* no branch on the sign */
-    return r ? r : vor__orient2d_fast_n(a, b, c, exact);
+    return (det > s) - (det < -s); /* no branch on the sign */
 }
 
 static inline int vor__orient2d_static(const double *a, const double *b,
                                        const double *c, double s) {
-    uint64_t unread = 0;
-    return vor__orient2d_static_n(a, b, c, s, &unread);
+    int r = vor__orient2d_static_filter(a, b, c, s);
+    return r ? r : vor__orient2d_fast(a, b, c);
+}
+
+/* The counting form (see "Counting forms" above). */
+static inline int vor__orient2d_static_n(const double *a, const double *b,
+                                         const double *c, double s,
+                                         uint64_t *exact) {
+    int r = vor__orient2d_static_filter(a, b, c, s);
+    return r ? r : vor__orient2d_counted(a, b, c, exact);
 }
 
 /* ---- Circumcentre, double path ---------------------------------------------
