@@ -505,15 +505,6 @@ int vor__fortune_circle_top_dd(const double *a, const double *b,
     return 1;
 }
 
-int vor__fortune_dd_cmp(double hi1, double lo1, double err1, double hi2,
-                        double lo2, double err2) {
-    /* delta = top2 - top1 with a relative error of at most 3 u^2 */
-    dd delta = dd_add((dd){hi2, lo2}, (dd){-hi1, -lo1});
-    double m = (err1 + err2) * (1 + 0x1p-40);
-    if (delta.hi > m) return -1;
-    if (-delta.hi > m) return 1;
-    return 0;
-}
 
 /* ---- Exact ties in floating point ---------------------------------------- */
 

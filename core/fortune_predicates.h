@@ -148,8 +148,23 @@ int vor__fortune_circle_top_dd(const double *a, const double *b,
 
 /* Compares two tops given by vor__fortune_circle_top_dd: -1 if the first is
  * provably lower, +1 if provably higher, 0 if the bounds cannot tell. */
-int vor__fortune_dd_cmp(double hi1, double lo1, double err1, double hi2,
-                        double lo2, double err2);
+static inline int vor__fortune_dd_cmp(double hi1, double lo1, double err1,
+                                      double hi2, double lo2, double err2) {
+    /* delta = top2 - top1 by the accurate double-double sum (relative
+     * error at most 3 u^2): two-sums of the high and the low parts, then
+     * two renormalisations; only delta's high part is needed */
+    double a = -hi1, s = hi2 + a, sb = s - hi2;
+    double se = (hi2 - (s - sb)) + (a - sb);
+    double c = -lo1, t = lo2 + c, tb = t - lo2;
+    double te = (lo2 - (t - tb)) + (c - tb);
+    double v = s + (se + t);
+    double ve = (se + t) - (v - s);
+    double delta = v + (te + ve);
+    double m = (err1 + err2) * (1 + 0x1p-40);
+    if (delta > m) return -1;
+    if (-delta > m) return 1;
+    return 0;
+}
 
 /* Exact ties cheaply. 1 if the centre and squared radius of the circle
  * through a, b, c (orient2d > 0) are exactly representable and were

@@ -154,6 +154,8 @@ typedef struct dual {
     uint8_t *cc;
     uint32_t *root;
     uint32_t *min3;
+    int merge; /* the second pass: diagonals marked, polygons joined */
+    uint32_t tested; /* the first pass tested every edge at vertices below */
     size_t n_poly; /* finite polygons (vertices of the diagram) */
     /* the result being written, and how far */
     vor_diagram *d;
@@ -269,7 +271,8 @@ static int walk_fan(dual *D, uint32_t e0, size_t *deg) {
 
 /* ---- fast path: the records ----------------------------------------------
  * See the file comment. PASS_COCIRCULAR at the first cocircular edge,
- * before anything of that vertex is written. */
+ * before anything of its vertex is written (D->tested says which). In the
+ * second pass (D->merge) the diagonals, marked, are left out instead. */
 static int build_records(dual *D) {
     const size_t n = D->n;
     const uint32_t *tri = D->tri;
@@ -282,7 +285,7 @@ static int build_records(dual *D) {
      * where its walk is, and the vertices still walking */
     uint32_t fan[BLOCK][BLOCK_FAN], fanw[BLOCK][BLOCK_FAN], cur[BLOCK];
     uint8_t fdeg[BLOCK], act[BLOCK];
-    const uint8_t *cc = D->cc;
+    const uint8_t *cc = D->merge ? D->cc : NULL;
     const uint32_t *root = D->root;
     const double icc = cc ? 0 : vor__incircle_static_bound(vor__span(lxy, n));
 
@@ -377,7 +380,11 @@ static int build_records(dual *D) {
             size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
             if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
             int ic = vor__incircle_static(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]), icc);
-            if (ic >= 0) return ic == 0 ? PASS_COCIRCULAR : PASS_BROKEN;
+            if (ic > 0) return PASS_BROKEN;
+            if (ic == 0) { /* edges at earlier vertices were all tested */
+                D->tested = (uint32_t)v;
+                return PASS_COCIRCULAR;
+            }
         }
         if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;
 
@@ -560,15 +567,16 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
  * records cannot express. At the first cocircular edge build_records
  * stops; the mesh is put back as the construction left it (restore_adj),
  * and merge_prepare marks every diagonal of a cocircular polygon (an
- * interior edge whose two triangles share a circumcircle, exactly), joins
- * the triangles of each polygon under one representative (union-find, the
- * smallest triangle id), and notes each polygon's three smallest sites.
- * Then the same passes run again with the diagonals left out of the
- * degrees, the fans and the records, with each slot's triangle replaced
- * by its polygon's representative, and with a polygon owned by its
- * smallest site and keyed by the next two: a diagonal is no Voronoi edge
- * (its length is zero), and the polygon is one vertex, whose defining
- * sites are its three smallest. */
+ * interior edge whose two triangles share a circumcircle, exactly; the
+ * edges build_records has tested already are known not to be), joins the
+ * triangles of each polygon under one representative (union-find, the
+ * smallest triangle id) and notes each polygon's three smallest sites.
+ * Then the passes run again with
+ * the diagonals left out of the degrees, the fans and the records, with
+ * each slot's triangle replaced by its polygon's representative, and with
+ * a polygon owned by its smallest site and keyed by the next two: a
+ * diagonal is no Voronoi edge (its length is zero), and the polygon is one
+ * vertex, whose defining sites are its three smallest. */
 
 static int count(dual *D);
 
@@ -616,6 +624,10 @@ static int merge_prepare(dual *D) {
         const uint32_t a = tri[e], b = tri[vor__next(e)], c = tri[vor__prev(e)],
                        d = tri[vor__prev(f)];
         if (((a | b | c | d) >> 30) != 0) continue; /* a ghost: hull edge */
+        /* build_records tested each edge at its earlier vertex, up to
+         * the vertex where it stopped: all of those but that vertex's
+         * are no diagonals */
+        if ((a < b ? a : b) < D->tested) continue;
         int ic = vor__incircle_static(XY(a), XY(b), XY(c), XY(d), icc);
         if (ic > 0) return PASS_BROKEN;
         if (ic < 0) continue;
@@ -646,6 +658,7 @@ static int merge_prepare(dual *D) {
         min3_add(m, order[v[2]]);
     }
     D->n_poly = np;
+    D->merge = 1;
     return count(D);
 }
 
