@@ -97,15 +97,37 @@ api_code api_write_result(const api_request *r, const api_result *res,
     return API_OK;
 }
 
+/* "name":{"median":m,"min":a,"max":b} for phase ph of c's runs of a. */
+static void put_spread(api_buf *out, const api_compare *c, int a, int ph,
+                       const char *name, double med) {
+    double lo = 0, hi = 0;
+    for (int i = 0; i < c->n_runs[a]; i++) {
+        double v = c->runs[a][i][ph];
+        if (i == 0 || v < lo) lo = v;
+        if (i == 0 || v > hi) hi = v;
+    }
+    if (api__reserve(out, 64 + 3 * API_NUM_MAXLEN)) return;
+    api__putc(out, '"');
+    api__put(out, name, strlen(name));
+    API__PUTS(out, "\":{\"median\":");
+    put_ms(out, med);
+    API__PUTS(out, ",\"min\":");
+    put_ms(out, lo);
+    API__PUTS(out, ",\"max\":");
+    put_ms(out, hi);
+    api__putc(out, '}');
+}
+
 api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p) {
     (void)r;
     double t0 = api_clock_ms();
-    const vor_sites *s = NULL;
+    const vor_sites *s = c->sites;
     for (int a = 0; a < VOR_ALGORITHM_COUNT && s == NULL; a++) s = c->res[a].sites;
-    api_buf_printf(out, "{\"n_input\":%zu,\"n_sites\":%zu,\"agree\":%s,"
-                        "\"disagreement\":",
-                   s ? s->n_input : 0, s ? s->n : 0, c->agree ? "true" : "false");
+    api_buf_printf(out, "{\"n_input\":%zu,\"n_sites\":%zu,\"repeat\":%d,"
+                        "\"agree\":%s,\"disagreement\":",
+                   s ? s->n_input : 0, s ? s->n : 0, c->repeat,
+                   c->agree ? "true" : "false");
     if (c->disagreement[0]) {
         api__put_json_string(out, c->disagreement);
     } else {
@@ -130,6 +152,25 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
         }
         API_BUF_LIT(out, ",\"timings\":");
         api__put_timings(out, &res->t);
+        if (code == API_OK) {
+            /* The spread of every phase measured per run; the medians are
+             * the timings' own. */
+            API_BUF_LIT(out, ",\"spread\":{");
+            put_spread(out, c, a, API_RUN_COMPUTE, "compute_ms", res->t.compute_ms);
+            if (c->has_clip) {
+                API_BUF_LIT(out, ",");
+                put_spread(out, c, a, API_RUN_CLIP, "clip_ms", res->t.clip_ms);
+            }
+            API_BUF_LIT(out, ",");
+            put_spread(out, c, a, API_RUN_TOTAL, "total_ms", res->t.total_ms);
+            API_BUF_LIT(out, "},\"runs_ms\":[");
+            for (int i = 0; i < c->n_runs[a]; i++) {
+                if (api__reserve(out, API_NUM_MAXLEN + 2)) break;
+                if (i) api__putc(out, ',');
+                put_ms(out, c->runs[a][i][API_RUN_COMPUTE]);
+            }
+            API_BUF_LIT(out, "]");
+        }
         API_BUF_LIT(out, "}");
     }
     API_BUF_LIT(out, "],\"timings\":");

@@ -158,6 +158,43 @@ static void test_json_generate(void **state) {
     api_request_clear(&o.r);
 }
 
+/* "repeat" (for /compare): an integer 1..50, an integral real too. */
+static void test_json_repeat(void **state) {
+    (void)state;
+    outcome o;
+    assert_int_equal(parse_json(&o, "{\"points\": [[0,0]], \"repeat\": 7}"), API_OK);
+    assert_int_equal(o.r.repeat, 7);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"repeat\": 5e1, \"points\": []}"), API_OK);
+    assert_int_equal(o.r.repeat, 50);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"points\": [[0,0]]}"), API_OK);
+    assert_int_equal(o.r.repeat, 0); /* absent: the comparison's default */
+    api_request_clear(&o.r);
+    static const refusal cases[] = {
+        {"{\"points\": [], \"repeat\": 0}", API_INVALID, "/repeat", 0,
+         "repeat 0 is out of range; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": 51}", API_INVALID, "/repeat", 0,
+         "repeat 51 is out of range; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": -2}", API_INVALID, "/repeat", 0,
+         "repeat -2 is out of range"},
+        {"{\"points\": [], \"repeat\": 2.5}", API_INVALID, "/repeat", 0,
+         "repeat 2.5 is not an integer; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": 1e300}", API_INVALID, "/repeat", 0,
+         "repeat 1e300 is out of range"},
+        {"{\"points\": [], \"repeat\": \"3\"}", API_INVALID, "/repeat", 0,
+         "repeat must be an integer from 1 to 50, got a string"},
+        {"{\"points\": [], \"repeat\": null}", API_INVALID, "/repeat", 0,
+         "got null"},
+        {"{\"points\": [], \"repeat\": 3, \"repeat\": 4}", API_MALFORMED,
+         "/repeat", 0, "duplicate key \"repeat\""},
+        {"{\"points\": [], \"repeats\": 3}", API_MALFORMED, "/repeats", 0,
+         "unknown key \"repeats\"; known: points, generate, algorithm, "
+         "bounds, include, format, repeat"},
+    };
+    check_refusals(API_IN_JSON, cases, sizeof cases / sizeof cases[0], 1000);
+}
+
 static void test_json_refusals(void **state) {
     (void)state;
     static const refusal cases[] = {
@@ -589,6 +626,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_json_accepted),
         cmocka_unit_test(test_json_generate),
+        cmocka_unit_test(test_json_repeat),
         cmocka_unit_test(test_json_refusals),
         cmocka_unit_test(test_json_too_many),
         cmocka_unit_test(test_json_not_terminated),

@@ -308,6 +308,17 @@ static void test_compare_document(void **state) {
         c.res[a].algorithm = (vor_algorithm)a;
     }
     c.status[VOR_FORTUNE] = VOR_EUNAVAILABLE;
+    /* Three runs each of the other two, given by hand: compute, clip, total. */
+    c.repeat = 3;
+    c.has_clip = 1;
+    static const double runs[3][3] = {{2.5, 0.25, 3}, {1.25, 0.5, 2}, {4, 0.125, 4.5}};
+    for (int a = VOR_BOWYER_WATSON; a < VOR_ALGORITHM_COUNT; a++) {
+        c.n_runs[a] = 3;
+        memcpy(c.runs[a], runs, sizeof runs);
+        c.res[a].t.compute_ms = 2.5;
+        c.res[a].t.clip_ms = 0.25;
+        c.res[a].t.total_ms = 3;
+    }
     c.agree = 0;
     strcpy(c.disagreement, "fortune: algorithm not available");
     c.t.parse_ms = 3;
@@ -330,12 +341,34 @@ static void test_compare_document(void **state) {
     assert_string_equal(json_string_value(json_object_get(f, "algorithm")), "fortune");
     assert_string_equal(json_string_value(json_object_get(f, "status")), "not-implemented");
     assert_null(json_object_get(f, "n_edges"));
+    assert_null(json_object_get(f, "spread"));
+    assert_null(json_object_get(f, "runs_ms"));
+    assert_int_equal(json_integer_value(json_object_get(j, "repeat")), 3);
     json_t *b = json_array_get(algos, 1);
     assert_string_equal(json_string_value(json_object_get(b, "algorithm")), "bowyer-watson");
     assert_string_equal(json_string_value(json_object_get(b, "status")), "ok");
     assert_int_equal(json_integer_value(json_object_get(b, "n_edges")), 3);
     assert_int_equal(json_integer_value(json_object_get(b, "n_vertices")), 1);
     rc_check_timings(json_object_get(b, "timings"));
+    json_t *runs_ms = json_object_get(b, "runs_ms");
+    assert_int_equal(json_array_size(runs_ms), 3);
+    assert_true(json_number_value(json_array_get(runs_ms, 0)) == 2.5);
+    assert_true(json_number_value(json_array_get(runs_ms, 1)) == 1.25);
+    assert_true(json_number_value(json_array_get(runs_ms, 2)) == 4);
+    json_t *spread = json_object_get(b, "spread");
+    static const struct {
+        const char *phase;
+        double median, min, max;
+    } want[] = {{"compute_ms", 2.5, 1.25, 4}, {"clip_ms", 0.25, 0.125, 0.5},
+                {"total_ms", 3, 2, 4.5}};
+    assert_int_equal(json_object_size(spread), 3);
+    for (int k = 0; k < 3; k++) {
+        json_t *e = json_object_get(spread, want[k].phase);
+        assert_int_equal(json_object_size(e), 3);
+        assert_true(json_number_value(json_object_get(e, "median")) == want[k].median);
+        assert_true(json_number_value(json_object_get(e, "min")) == want[k].min);
+        assert_true(json_number_value(json_object_get(e, "max")) == want[k].max);
+    }
     rc_check_timings(json_object_get(j, "timings"));
     assert_true(json_number_value(json_object_get(json_object_get(j, "timings"),
                                                   "parse_ms")) == 3);
