@@ -348,6 +348,52 @@ static void test_compare(void **state) {
     r = RUN(NULL, "--compare", "-f", "svg", "-g", "uniform:3");
     expect_status(&r, 2);
     run_free(&r);
+
+    /* --repeat: that many runs per algorithm, medians inside the spread. */
+    r = RUN(NULL, "--compare", "--repeat", "4", "-g", "gaussian:500:2");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 4);
+    algos = json_object_get(j, "algorithms");
+    for (size_t i = 0; i < 3; i++) {
+        json_t *a = json_array_get(algos, i);
+        if (strcmp(json_string_value(json_object_get(a, "status")), "ok") != 0) continue;
+        assert_int_equal(json_array_size(json_object_get(a, "runs_ms")), 4);
+        json_t *sp = json_object_get(json_object_get(a, "spread"), "compute_ms");
+        double med = json_number_value(json_object_get(sp, "median"));
+        assert_true(json_number_value(json_object_get(sp, "min")) <= med);
+        assert_true(med <= json_number_value(json_object_get(sp, "max")));
+    }
+    if (all_ok && !json_is_true(json_object_get(j, "agree"))) {
+        fail_msg("the algorithms disagree over repeated runs: %s",
+                 json_string_value(json_object_get(j, "disagreement")));
+    }
+    json_decref(j);
+    run_free(&r);
+    /* From a JSON file's "repeat" too, and the flag wins over it. */
+    put_text("rep.json", "{\"points\": [[0,0],[1,0],[0,1],[1,1]], \"repeat\": 2}");
+    r = RUN(NULL, "-c", "@rep.json");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 2);
+    json_decref(j);
+    run_free(&r);
+    r = RUN(NULL, "-c", "-r", "3", "@rep.json");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 3);
+    json_decref(j);
+    run_free(&r);
+    /* Without --compare the file's repeat is an input error (exit 1). */
+    r = RUN(NULL, "@rep.json");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "repeat applies only to a comparison"));
+    run_free(&r);
+    /* repeat x points over 10^7: refused, naming the limit. */
+    r = RUN(NULL, "-c", "-r", "50", "-g", "uniform:300000");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "at most 10000000, so at most 33 repeats"));
+    run_free(&r);
 }
 
 static void test_input_errors(void **state) {
@@ -394,7 +440,7 @@ static void test_usage_errors(void **state) {
     (void)state;
     NEED_CLI();
     static const struct {
-        const char *args[4];
+        const char *args[5];
         const char *words;
     } cases[] = {
         {{"--frobnicate", NULL}, "unknown option --frobnicate"},
@@ -410,9 +456,13 @@ static void test_usage_errors(void **state) {
         {{"a.csv", "b.csv", NULL}, "one input at most"},
         {{"-g", "grid:4", "a.csv", NULL}, "exclude each other"},
         {{"--algorithm", NULL}, "needs a value"},
+        {{"--compare", "--repeat", "0", NULL}, "repeat 0 is out of range; give an integer from 1 to 50"},
+        {{"-c", "-r", "2.5", NULL}, "repeat 2.5 is not an integer"},
+        {{"-c", "--repeat", "many", NULL}, "repeat \"many\" is not a number"},
+        {{"--repeat", "3", "-g", "grid:4", NULL}, "--repeat applies to --compare only"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        const char *args[5] = {0};
+        const char *args[6] = {0};
         memcpy(args, cases[i].args, sizeof cases[i].args);
         run r = run_cli(NULL, args);
         if (r.status != 2 || strstr(r.err, cases[i].words) == NULL) {
@@ -425,7 +475,8 @@ static void test_usage_errors(void **state) {
     expect_status(&r, 0);
     static const char *const documented[] = {"--algorithm", "--bounds", "--format",
                                              "--input", "--include", "--generate",
-                                             "--compare", "timings", "Exit status"};
+                                             "--compare", "--repeat", "timings",
+                                             "Exit status"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++) {
         if (strstr(r.out, documented[i]) == NULL) fail_msg("--help lacks %s", documented[i]);
     }
