@@ -97,13 +97,18 @@ int api_buf_printf(api_buf *b, const char *fmt, ...)
 
 /* ---- Requests ----------------------------------------------------------- */
 
-/* API_IN_AUTO: JSON if the first byte that is not white space is '{' or
- * '[', text otherwise (binary is never guessed). */
+/* API_IN_AUTO: JSON if the first byte that is not white space (after a
+ * UTF-8 byte order mark) is '{' or '[', text otherwise (binary is never
+ * guessed); an empty body is JSON's "empty body" problem. API_IN_PLAIN
+ * (text/plain): the same guess, but an empty body is text (no points) --
+ * a browser's fetch() of a JSON string without a Content-Type sends
+ * text/plain;charset=UTF-8, and a text body never starts with '{' or '['. */
 typedef enum api_input {
     API_IN_JSON,
     API_IN_TEXT,
     API_IN_BINARY,
-    API_IN_AUTO
+    API_IN_AUTO,
+    API_IN_PLAIN
 } api_input;
 /* API_FMT_TIMINGS: only the JSON timings object (command line, benchmarks). */
 typedef enum api_format {
@@ -153,7 +158,7 @@ void api_request_clear(api_request *r);
 
 /* Content-Type header (parameters allowed, case-insensitive) -> input kind:
  * application/json, text/json and any application/...+json -> JSON;
- * text/csv, text/plain, text/tab-separated-values -> text;
+ * text/csv, text/tab-separated-values -> text; text/plain -> API_IN_PLAIN;
  * application/octet-stream -> binary; NULL, empty or
  * application/x-www-form-urlencoded (what `curl --data-binary` sends
  * unless told otherwise) -> API_IN_AUTO. API_MEDIA_TYPE otherwise. */

@@ -1059,12 +1059,13 @@ api_code api_parse_body(api_request *r, api_input kind, const char *body,
         body = "";
         len = 0;
     }
-    if (kind == API_IN_AUTO) {
+    if (kind == API_IN_AUTO || kind == API_IN_PLAIN) {
         const char *s = body, *end = body + len;
         if (len >= 3 && memcmp(s, "\xef\xbb\xbf", 3) == 0) s += 3;
         s = skip_ws(s, end);
+        int empty_json = kind == API_IN_AUTO; /* empty: the JSON message */
         kind = s < end && (*s == '{' || *s == '[') ? API_IN_JSON : API_IN_TEXT;
-        if (s == end) kind = API_IN_JSON; /* empty: the JSON message */
+        if (s == end && empty_json) kind = API_IN_JSON;
     }
     api_code c;
     switch (kind) {

@@ -319,9 +319,13 @@ api_code api_input_from_content_type(const char *content_type, api_input *out,
             *out = API_IN_JSON;
             return API_OK;
         }
-        if (strcmp(t, "text/csv") == 0 || strcmp(t, "text/plain") == 0 ||
+        if (strcmp(t, "text/csv") == 0 ||
             strcmp(t, "text/tab-separated-values") == 0) {
             *out = API_IN_TEXT;
+            return API_OK;
+        }
+        if (strcmp(t, "text/plain") == 0) {
+            *out = API_IN_PLAIN;
             return API_OK;
         }
         if (strcmp(t, "application/octet-stream") == 0) {

@@ -140,7 +140,9 @@ static void test_content_types(void **state) {
         {"text/json", API_IN_JSON},
         {"application/vnd.points+json", API_IN_JSON},
         {"text/csv", API_IN_TEXT},
-        {" text/plain ;charset=us-ascii", API_IN_TEXT},
+        {" text/plain ;charset=us-ascii", API_IN_PLAIN},
+        {"text/plain;charset=UTF-8", API_IN_PLAIN},
+        {"TEXT/PLAIN", API_IN_PLAIN},
         {"text/tab-separated-values", API_IN_TEXT},
         {"application/octet-stream", API_IN_BINARY},
     };

@@ -1,7 +1,8 @@
 /* test_codec.c -- what the codec promises, seen through a real voronoid:
  * /compare's repeated runs (their count from the body, the query or the
  * default, medians inside their spread, agreement, the bounds on repeat
- * and its errors).
+ * and its errors); a JSON body sent as text/plain, as a browser's fetch()
+ * of a string does.
  *
  * Timings are checked for their structure and their relations (a median
  * lies between the minimum and the maximum, and equals the median of the
@@ -176,10 +177,44 @@ static void test_compare_repeat_refused(void **state) {
     }
 }
 
+/* fetch(url, {method: "POST", body: JSON.stringify(...)}) sends
+ * text/plain;charset=UTF-8: a body that starts like JSON is JSON. */
+static void test_plain_json(void **state) {
+    (void)state;
+    it_resp r;
+    post("/voronoi?format=timings", "text/plain;charset=UTF-8",
+         " {\"points\": [[0,0],[1,0],[0,1],[1,1]], \"algorithm\": \"flip\"}",
+         &r, "voronoi-plain-json");
+    if (r.status != 200) fail_msg("%ld %s", r.status, r.body);
+    json_t *j = it_json(&r);
+    assert_non_null(json_object_get(j, "compute_ms"));
+    json_decref(j);
+    it_free(&r);
+    post("/compare?repeat=1", "text/plain;charset=UTF-8", "[[0,0],[2,0],[0,2]]",
+         &r, NULL);
+    assert_int_equal(r.status, 200);
+    j = it_json(&r);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_input")), 3);
+    json_decref(j);
+    it_free(&r);
+    /* Its errors are JSON's, with a pointer. */
+    post("/voronoi", "text/plain", "{\"points\": [[0,0],[1]]}", &r, NULL);
+    assert_int_equal(r.status, 422);
+    j = it_json(&r);
+    assert_string_equal(json_string_value(json_object_get(j, "pointer")), "/points/1");
+    json_decref(j);
+    it_free(&r);
+    /* Text is still text. */
+    post("/voronoi", "text/plain", "0 0\n1 0\n0 1\n", &r, NULL);
+    assert_int_equal(r.status, 200);
+    it_free(&r);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_repeat),
         cmocka_unit_test(test_compare_repeat_refused),
+        cmocka_unit_test(test_plain_json),
     };
     return cmocka_run_group_tests_name("integration/codec", tests, setup, teardown);
 }
