@@ -42,9 +42,10 @@ static void put_ms(api_buf *out, double v) {
     }
 }
 
-int api__put_timings(api_buf *out, const api_timings *t) {
+/* The timings' members, "queue_ms":...,"total_ms":... (no braces). */
+static int put_timing_members(api_buf *out, const api_timings *t) {
     static const char *const keys[] = {
-        "{\"queue_ms\":", ",\"parse_ms\":",     ",\"prepare_ms\":",
+        "\"queue_ms\":", ",\"parse_ms\":",     ",\"prepare_ms\":",
         ",\"compute_ms\":", ",\"clip_ms\":",    ",\"serialize_ms\":",
         ",\"total_ms\":",
     };
@@ -56,9 +57,32 @@ int api__put_timings(api_buf *out, const api_timings *t) {
         api__put(out, keys[i], strlen(keys[i]));
         put_ms(out, v[i]);
     }
-    api__putc(out, '}');
     out->data[out->len] = 0;
     return 0;
+}
+
+int api__put_timings(api_buf *out, const api_timings *t) {
+    if (API_BUF_LIT(out, "{") || put_timing_members(out, t)) return -1;
+    return API_BUF_LIT(out, "}");
+}
+
+/* format=timings: the timings labelled with the algorithm and the sizes,
+ * one flat object, so that rows of a scripted sweep carry their own
+ * labels: {"algorithm":"fortune","n_input":N,"n_sites":M,"queue_ms":...}. */
+static int write_timings_only(const api_result *res, api_timings *t, double t0,
+                              api_buf *out) {
+    const char *name = vor_algorithm_name(res->algorithm);
+    if (api__reserve(out, 64 + strlen(name))) return -1;
+    API__PUTS(out, "{\"algorithm\":\"");
+    api__put(out, name, strlen(name));
+    API__PUTS(out, "\",\"n_input\":");
+    api__put_u32(out, (uint32_t)res->sites->n_input);
+    API__PUTS(out, ",\"n_sites\":");
+    api__put_u32(out, (uint32_t)res->sites->n);
+    api__putc(out, ',');
+    api__finish_timings(t, t0);
+    if (put_timing_members(out, t)) return -1;
+    return API_BUF_LIT(out, "}");
 }
 
 void api__midpoint(const double *a, const double *b, double *out) {
@@ -86,10 +110,7 @@ api_code api_write_result(const api_request *r, const api_result *res,
     case API_FMT_GEOJSON: rc = api__write_geojson(r, res, t, t0, out); break;
     case API_FMT_SVG: rc = api__write_svg(r, res, t, t0, out); break;
     case API_FMT_BINARY: rc = api__write_binary(r, res, t, t0, out); break;
-    case API_FMT_TIMINGS:
-        api__finish_timings(t, t0);
-        rc = api__put_timings(out, t);
-        break;
+    case API_FMT_TIMINGS: rc = write_timings_only(res, t, t0, out); break;
     default: rc = api__write_json(r, res, t, t0, out); break;
     }
     if (rc != 0 || out->oom) return out_of_memory(out, p);

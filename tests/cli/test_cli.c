@@ -275,7 +275,10 @@ static void test_generate_and_formats(void **state) {
     run r = RUN(NULL, "--generate", "grid:16", "--format", "timings", "-a", "flip");
     expect_status(&r, 0);
     json_t *j = json_out(&r);
-    assert_int_equal(json_object_size(j), 7);
+    assert_int_equal(json_object_size(j), 10); /* 3 labels, 7 timings */
+    assert_string_equal(json_string_value(json_object_get(j, "algorithm")), "flip");
+    assert_int_equal(jint(j, "n_input"), 16);
+    assert_int_equal(jint(j, "n_sites"), 16);
     assert_true(json_is_number(json_object_get(j, "compute_ms")));
     assert_true(json_is_number(json_object_get(j, "total_ms")));
     json_decref(j);

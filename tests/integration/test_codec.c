@@ -2,7 +2,8 @@
  * /compare's repeated runs (their count from the body, the query or the
  * default, medians inside their spread, agreement, the bounds on repeat
  * and its errors); a JSON body sent as text/plain, as a browser's fetch()
- * of a string does.
+ * of a string does; format=timings labelled with the algorithm and the
+ * sizes.
  *
  * Timings are checked for their structure and their relations (a median
  * lies between the minimum and the maximum, and equals the median of the
@@ -210,11 +211,32 @@ static void test_plain_json(void **state) {
     it_free(&r);
 }
 
+static void test_timings_labelled(void **state) {
+    (void)state;
+    it_resp r;
+    post("/voronoi?format=timings&algorithm=bowyer-watson", "application/json",
+         "[[0,0],[1,0],[0,1],[0,0],[1,1]]", &r, "voronoi-timings-labelled");
+    assert_int_equal(r.status, 200);
+    json_t *j = it_json(&r);
+    assert_string_equal(json_string_value(json_object_get(j, "algorithm")),
+                        "bowyer-watson");
+    assert_int_equal(json_integer_value(json_object_get(j, "n_input")), 5);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_sites")), 4);
+    static const char *const phases[] = {"queue_ms", "parse_ms", "prepare_ms",
+                                         "compute_ms", "clip_ms", "serialize_ms",
+                                         "total_ms"};
+    for (int k = 0; k < 7; k++) assert_true(json_is_number(json_object_get(j, phases[k])));
+    assert_int_equal(json_object_size(j), 10);
+    json_decref(j);
+    it_free(&r);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_repeat),
         cmocka_unit_test(test_compare_repeat_refused),
         cmocka_unit_test(test_plain_json),
+        cmocka_unit_test(test_timings_labelled),
     };
     return cmocka_run_group_tests_name("integration/codec", tests, setup, teardown);
 }
