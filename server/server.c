@@ -225,7 +225,7 @@ static void problem_reply(reply *r, const api_problem *p,
         api_buf_clear(&b);
         static const char fallback[] =
             "{\"type\":\"/problems/unavailable\",\"title\":\"Service "
-            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}";
+            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}\n";
         r->status = 503;
         r->body = malloc(sizeof fallback);
         if (r->body != NULL) {
@@ -1170,12 +1170,12 @@ static enum MHD_Result on_complete(req *q, struct MHD_Connection *conn) {
     case SRV_ROUTE_ASSET:
         return handle_asset(q, conn, q->path);
     case SRV_ROUTE_HEALTHZ:
-        return handle_json_status(q, conn, "{\"status\":\"ok\"}");
+        return handle_json_status(q, conn, "{\"status\":\"ok\"}\n");
     case SRV_ROUTE_READYZ:
         if (atomic_load(&s->draining))
             return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
                                 "shutting down: not taking new work");
-        return handle_json_status(q, conn, "{\"status\":\"ready\"}");
+        return handle_json_status(q, conn, "{\"status\":\"ready\"}\n");
     case SRV_ROUTE_METRICS:
         return handle_metrics(q, conn);
     case SRV_ROUTE_PROBLEM:
