@@ -308,8 +308,8 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
  * "image/svg+xml", "application/octet-stream"). */
 const char *api_format_mime(api_format f);
 
-/* Writes the result in r->format (appending to out). The timings are the
- * body's last member: the writer measures its own time into
+/* Writes the result in r->format (appending to out); every format but
+ * binary ends with a newline. The timings are the body's last member: the writer measures its own time into
  * t->serialize_ms and sets t->total_ms = max(t->total_ms, queue + parse +
  * prepare + compute + clip) + serialize_ms before writing them (so a caller
  * may put its own wall-clock time so far in total_ms, and can reuse t for a
@@ -325,7 +325,7 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p);
 /* application/problem+json body for p: type (API_PROBLEM_TYPE_PREFIX +
  * slug), title, status, detail, instance (when not NULL), pointer (when
- * set), line (when set). */
+ * set), line (when set), and a newline. */
 void api_write_problem(const api_problem *p, const char *instance,
                        api_buf *out);
 

@@ -4,7 +4,8 @@
  * Each format has its own file (write_json.c, write_geojson.c,
  * write_svg.c, write_binary.c) appending to one api_buf; this file measures
  * the serialisation time they report and turns a failed allocation into a
- * problem with an empty buffer. */
+ * problem with an empty buffer. Every document but the binary one ends
+ * with a newline, so that it prints and concatenates cleanly in a shell. */
 #include <math.h>
 #include <string.h>
 
@@ -82,7 +83,7 @@ static int write_timings_only(const api_result *res, api_timings *t, double t0,
     api__putc(out, ',');
     api__finish_timings(t, t0);
     if (put_timing_members(out, t)) return -1;
-    return API_BUF_LIT(out, "}");
+    return API_BUF_LIT(out, "}\n");
 }
 
 void api__midpoint(const double *a, const double *b, double *out) {
@@ -198,7 +199,7 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
     api_timings t = c->t;
     api__finish_timings(&t, t0);
     api__put_timings(out, &t);
-    API_BUF_LIT(out, "}");
+    API_BUF_LIT(out, "}\n");
     if (out->oom) return out_of_memory(out, p);
     p->code = API_OK;
     return API_OK;

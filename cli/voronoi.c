@@ -311,7 +311,6 @@ int main(int argc, char **argv) {
         if (api_compare_run(&r, &cmp, &p) != API_OK) fail(source, &p);
         if (api_write_compare(&r, &cmp, &out, &p) != API_OK) fail(source, &p);
         api_compare_clear(&cmp);
-        if (api_buf_append(&out, "\n", 1)) fail(source, &p);
     } else {
         api_result res;
         api_result_init(&res);
@@ -319,10 +318,6 @@ int main(int argc, char **argv) {
         if (api_compute(&r, &res, &p) != API_OK) fail(source, &p);
         if (api_write_result(&r, &res, &res.t, &out, &p) != API_OK) fail(source, &p);
         api_result_clear(&res);
-        if (r.format != API_FMT_BINARY && r.format != API_FMT_SVG &&
-            api_buf_append(&out, "\n", 1)) {
-            fail(source, &p);
-        }
     }
     write_out(&out);
     api_buf_clear(&out);

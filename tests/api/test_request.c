@@ -221,6 +221,7 @@ static void test_problem_json(void **state) {
     api_buf_init(&b);
     api_write_problem(&p, "/voronoi", &b);
     assert_false(b.oom);
+    assert_true(b.len > 2 && memcmp(b.data + b.len - 2, "}\n", 2) == 0);
     json_error_t err;
     json_t *j = json_loadb(b.data, b.len, 0, &err);
     if (j == NULL) fail_msg("problem is not JSON: %s: %s", err.text, b.data);

@@ -140,7 +140,45 @@ static void test_json_all_parts(void **state) {
                                      "\"bounds_given\":true,\"edges\":[[1,1,1,-1]"));
     assert_non_null(strstr(out.data, "\"parse_ms\":1.25,\"prepare_ms\":0.5,"
                                      "\"compute_ms\":2,"));
-    assert_int_equal(out.data[out.len - 1], '}');
+    assert_int_equal(out.data[out.len - 2], '}');
+    assert_int_equal(out.data[out.len - 1], '\n');
+    api_buf_clear(&out);
+}
+
+/* Every text document ends with exactly one newline (a shell prompt then
+ * starts on its own line, and documents concatenate line by line); the
+ * binary one ends with its timings. */
+static void test_trailing_newline(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    static const char *const ends[] = {
+        [API_FMT_JSON] = "}}\n", [API_FMT_GEOJSON] = "}}\n",
+        [API_FMT_SVG] = "</svg>\n", [API_FMT_TIMINGS] = "}\n"};
+    for (int f = API_FMT_JSON; f <= API_FMT_TIMINGS; f++) {
+        api_request r = request((api_format)f, API_PART_ALL, 1);
+        api_buf out;
+        write_ok(&r, &res, &out);
+        if (f == API_FMT_BINARY) {
+            assert_int_equal(out.len % 8, 0); /* f64 timings, no newline */
+        } else {
+            size_t n = strlen(ends[f]);
+            if (out.len < n + 1 || memcmp(out.data + out.len - n, ends[f], n) != 0 ||
+                out.data[out.len - 2] == '\n') {
+                fail_msg("format %d ends with \"%s\"", f,
+                         out.data + (out.len > 12 ? out.len - 12 : 0));
+            }
+        }
+        api_buf_clear(&out);
+    }
+    api_compare c;
+    api_compare_init(&c);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) c.res[a] = tri_result();
+    api_request r = request(API_FMT_JSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    api_problem p;
+    api_buf_init(&out);
+    assert_int_equal(api_write_compare(&r, &c, &out, &p), API_OK);
+    assert_true(out.len > 3 && memcmp(out.data + out.len - 3, "}}\n", 3) == 0);
     api_buf_clear(&out);
 }
 
@@ -451,6 +489,7 @@ int main(void) {
         cmocka_unit_test(test_timings_digits),
         cmocka_unit_test(test_out_of_memory),
         cmocka_unit_test(test_compare_document),
+        cmocka_unit_test(test_trailing_newline),
     };
     return cmocka_run_group_tests_name("api/write", tests, NULL, NULL);
 }

@@ -327,6 +327,27 @@ static void test_generate_and_formats(void **state) {
     run_free(&r);
 }
 
+/* Text output ends with exactly one newline; binary output with none. */
+static void test_trailing_newline(void **state) {
+    (void)state;
+    NEED_CLI();
+    static const char *const formats[] = {"json", "geojson", "svg", "timings", NULL};
+    for (int i = 0; i <= 4; i++) {
+        run r = formats[i] ? RUN(NULL, "-g", "uniform:10", "-f", formats[i])
+                           : RUN(NULL, "-c", "-r", "1", "-g", "uniform:10");
+        expect_status(&r, 0);
+        if (r.out_len < 2 || r.out[r.out_len - 1] != '\n' || r.out[r.out_len - 2] == '\n')
+            fail_msg("%s: output does not end with one newline",
+                     formats[i] ? formats[i] : "--compare");
+        run_free(&r);
+    }
+    run r = RUN(NULL, "-g", "uniform:10", "-f", "binary");
+    expect_status(&r, 0);
+    assert_int_equal(r.out_len % 8, 0);
+    assert_memory_equal(r.out, "VORB", 4);
+    run_free(&r);
+}
+
 static void test_compare(void **state) {
     (void)state;
     NEED_CLI();
@@ -493,6 +514,7 @@ int main(void) {
         cmocka_unit_test(test_binary_file),
         cmocka_unit_test(test_generate_and_formats),
         cmocka_unit_test(test_compare),
+        cmocka_unit_test(test_trailing_newline),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_usage_errors),
     };

@@ -3,7 +3,7 @@
  * default, medians inside their spread, agreement, the bounds on repeat
  * and its errors); a JSON body sent as text/plain, as a browser's fetch()
  * of a string does; format=timings labelled with the algorithm and the
- * sizes.
+ * sizes; every text answer ending with a newline.
  *
  * Timings are checked for their structure and their relations (a median
  * lies between the minimum and the maximum, and equals the median of the
@@ -231,12 +231,71 @@ static void test_timings_labelled(void **state) {
     it_free(&r);
 }
 
+/* Every answer body but binary ends with exactly one newline: diagrams in
+ * every text format, timings, comparisons, problems of every origin
+ * (codec, routing, limits), health and readiness. */
+static void test_trailing_newline(void **state) {
+    (void)state;
+    static const struct {
+        const char *method, *path, *ctype, *body, *accept;
+        long status;
+    } cases[] = {
+        {"POST", "/voronoi", "application/json", "[[0,0],[1,0],[0,1]]", NULL, 200},
+        {"POST", "/voronoi?format=geojson", NULL, "[[0,0],[1,0],[0,1]]", NULL, 200},
+        {"POST", "/voronoi?format=svg", NULL, "[[0,0],[1,0],[0,1]]", NULL, 200},
+        {"POST", "/voronoi?format=timings", NULL, "[[0,0],[1,0],[0,1]]", NULL, 200},
+        {"POST", "/compare", NULL, "[[0,0],[1,0],[0,1]]", NULL, 200},
+        {"POST", "/voronoi", "application/json", "[[0,0],[1,\"y\"]]", NULL, 422},
+        {"POST", "/voronoi", "text/plain", "0 0\n1 x\n", NULL, 400},
+        {"POST", "/voronoi", "image/png", "x", NULL, 415},
+        {"POST", "/voronoi", NULL, "[[0,0]]", "text/html", 406},
+        {"GET", "/nowhere", NULL, NULL, NULL, 404},
+        {"DELETE", "/voronoi", NULL, NULL, NULL, 405},
+        {"GET", "/healthz", NULL, NULL, NULL, 200},
+        {"GET", "/readyz", NULL, NULL, NULL, 200},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        it_req q = {.method = cases[i].method, .path = cases[i].path,
+                    .body = cases[i].body,
+                    .len = cases[i].body ? strlen(cases[i].body) : 0};
+        char ct[96], ac[96];
+        int h = 0;
+        if (cases[i].ctype) {
+            snprintf(ct, sizeof ct, "Content-Type: %s", cases[i].ctype);
+            q.headers[h++] = ct;
+        }
+        if (cases[i].accept) {
+            snprintf(ac, sizeof ac, "Accept: %s", cases[i].accept);
+            q.headers[h++] = ac;
+        }
+        it_resp r;
+        it_http(&d, &q, &r);
+        if (r.curl_rc != 0) fail_msg("curl: %s", r.err);
+        if (r.status != cases[i].status)
+            fail_msg("%s %s: %ld, expected %ld", cases[i].method, cases[i].path,
+                     r.status, cases[i].status);
+        if (r.len < 2 || r.body[r.len - 1] != '\n' || r.body[r.len - 2] == '\n')
+            fail_msg("%s %s (%ld): the body does not end with one newline: %.80s",
+                     cases[i].method, cases[i].path, r.status, r.body);
+        it_free(&r);
+    }
+    /* Binary ends with its float64 timings. */
+    it_req q = {.path = "/voronoi?format=binary", .body = "[[0,0],[1,0],[0,1]]",
+                .len = 19};
+    it_resp r;
+    it_http(&d, &q, &r);
+    assert_int_equal(r.status, 200);
+    assert_int_equal(r.len % 8, 0);
+    it_free(&r);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_repeat),
         cmocka_unit_test(test_compare_repeat_refused),
         cmocka_unit_test(test_plain_json),
         cmocka_unit_test(test_timings_labelled),
+        cmocka_unit_test(test_trailing_newline),
     };
     return cmocka_run_group_tests_name("integration/codec", tests, setup, teardown);
 }
