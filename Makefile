@@ -2,6 +2,7 @@
 #
 #   make            release build into build/ (libvor.a, voronoi, voronoid)
 #   make run        build and start the service on 127.0.0.1:8080
+#                   (PORT=N another port, ARGS='...' more voronoid flags)
 #   make test       sanitizer build (ASan+UBSan) into build/asan/, every test
 #   make tsan       the server's tests under ThreadSanitizer (make test runs it)
 #   make bench      benchmark tables and plots into build/bench/
@@ -150,8 +151,13 @@ $(eval $(call EMBED,$(B)/tsan,tsan))
 tbin = $(patsubst %.c,$(1)/%,$(2))
 
 # ---- run -----------------------------------------------------------------
+# make run PORT=9000 ARGS='--workers 1': PORT becomes --port only when
+# given, so that VORONOID_PORT (and every other VORONOID_* variable) in the
+# environment still counts; voronoid's own defaults are 127.0.0.1:8080.
+PORT ?=
+ARGS ?=
 run: all
-	./$(B)/voronoid --bind 127.0.0.1 --port 8080
+	./$(B)/voronoid$(if $(PORT), --port $(PORT))$(if $(ARGS), $(ARGS))
 
 # ---- tests ---------------------------------------------------------------
 # Every test binary runs even when one fails; the target fails at the end

@@ -3,7 +3,8 @@
  * The binary's path comes from VOR_CLI (set by `make unit`). Inputs are
  * written to a fresh temporary directory; the command runs through
  * posix_spawn with stdin, stdout and stderr redirected to files, and its
- * exit status, output (read back with jansson) and messages are checked. */
+ * exit status, output (read back with jansson) and messages are checked.
+ * Also the command line `make run` starts the service with (make -n). */
 #include <errno.h>
 #include <fcntl.h>
 #include <jansson.h>
@@ -136,7 +137,7 @@ static int teardown(void **state) {
     if (dir[0]) {
         static const char *const names[] = {"stdout", "stderr", "p.csv", "p.json",
                                             "p.bin", "odd.bin", "bad.csv", "bad.json",
-                                            "flip.json", "p.txt", "noext"};
+                                            "flip.json", "p.txt", "noext", "rep.json"};
         for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
             char path[512];
             snprintf(path, sizeof path, "%s/%s", dir, names[i]);
@@ -348,6 +349,48 @@ static void test_trailing_newline(void **state) {
     run_free(&r);
 }
 
+/* The voronoid command line `make run` would run (make -n), from the
+ * repository root with a clean make environment; env is prepended to the
+ * make command (e.g. "VORONOID_PORT=1234"). Returns a new string: the
+ * last line that runs voronoid. */
+static char *make_run_line(const char *env, const char *args) {
+    char cmd[512];
+    snprintf(cmd, sizeof cmd,
+             "env -u PORT -u ARGS -u MAKEFLAGS -u MFLAGS -u MAKELEVEL %s "
+             "make -n -s --no-print-directory run %s 2>&1",
+             env, args);
+    FILE *f = popen(cmd, "r");
+    if (f == NULL) fail_msg("cannot run %s", cmd);
+    char line[1024], *found = NULL;
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (strstr(line, "/voronoid") != NULL && strncmp(line, "./", 2) == 0) {
+            free(found);
+            found = strdup(line);
+        }
+    }
+    int rc = pclose(f);
+    if (rc != 0 || found == NULL) fail_msg("%s: status %d, no voronoid line", cmd, rc);
+    return found;
+}
+
+/* make run PORT=... ARGS=...: the port only when given, so that
+ * VORONOID_PORT in the environment is not overridden by a fixed flag. */
+static void test_make_run(void **state) {
+    (void)state;
+    if (access("Makefile", R_OK) != 0 || access("cli/voronoi.c", R_OK) != 0) {
+        fail_msg("run from the repository root (make unit does)");
+    }
+    char *l = make_run_line("", "PORT=0 ARGS='--workers 1 --queue 5'");
+    if (strstr(l, "voronoid --port 0 --workers 1 --queue 5") == NULL) fail_msg("%s", l);
+    free(l);
+    l = make_run_line("VORONOID_PORT=1234", "");
+    if (strstr(l, "--port") != NULL || strstr(l, "--bind") != NULL) fail_msg("%s", l);
+    free(l);
+    l = make_run_line("", "ARGS=--help");
+    if (strstr(l, "voronoid --help") == NULL) fail_msg("%s", l);
+    free(l);
+}
+
 static void test_compare(void **state) {
     (void)state;
     NEED_CLI();
@@ -517,6 +560,7 @@ int main(void) {
         cmocka_unit_test(test_trailing_newline),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_usage_errors),
+        cmocka_unit_test(test_make_run),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }
