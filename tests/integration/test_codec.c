@@ -3,7 +3,9 @@
  * default, medians inside their spread, agreement, the bounds on repeat
  * and its errors); a JSON body sent as text/plain, as a browser's fetch()
  * of a string does; format=timings labelled with the algorithm and the
- * sizes; every text answer ending with a newline.
+ * sizes; every text answer ending with a newline; the 413 that any path
+ * and method answers to a Content-Length over --max-body, as the contract
+ * says.
  *
  * Timings are checked for their structure and their relations (a median
  * lies between the minimum and the maximum, and equals the median of the
@@ -289,6 +291,33 @@ static void test_trailing_newline(void **state) {
     it_free(&r);
 }
 
+static void test_announced_too_large_anywhere(void **state) {
+    (void)state;
+    static const struct {
+        const char *method, *path, *save;
+    } cases[] = {
+        {"GET", "/healthz", "err-413-healthz-length"},
+        {"GET", "/metrics", "err-413-metrics-length"},
+        {"GET", "/", "err-413-page-length"},
+        {"OPTIONS", "/compare", "err-413-preflight-length"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        it_req q = {.method = cases[i].method, .path = cases[i].path,
+                    .headers = {"Content-Length: 99999999999"}};
+        it_resp r;
+        it_http(&d, &q, &r);
+        it_save(cases[i].save, &q, &r);
+        if (r.status != 413) fail_msg("%s %s: %ld", cases[i].method, cases[i].path, r.status);
+        json_t *j = it_json(&r);
+        assert_string_equal(json_string_value(json_object_get(j, "type")),
+                            "/problems/too-large");
+        assert_non_null(strstr(json_string_value(json_object_get(j, "detail")),
+                               "99999999999 bytes"));
+        json_decref(j);
+        it_free(&r);
+    }
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_compare_repeat),
@@ -296,6 +325,7 @@ int main(void) {
         cmocka_unit_test(test_plain_json),
         cmocka_unit_test(test_timings_labelled),
         cmocka_unit_test(test_trailing_newline),
+        cmocka_unit_test(test_announced_too_large_anywhere),
     };
     return cmocka_run_group_tests_name("integration/codec", tests, setup, teardown);
 }
