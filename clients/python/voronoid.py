@@ -3,8 +3,8 @@
 Sends a numpy array of points to a running voronoid as little-endian
 float64 pairs (POST /voronoi, Content-Type application/octet-stream) and
 asks for the binary answer (format=binary), which numpy reads in place:
-no JSON is encoded or decoded, so a million points cost about as much
-time in Python as the service spends computing them. The result is named
+no JSON is encoded or decoded, so Python's time goes to the transfer, not
+to parsing. The result is named
 like scipy.spatial.Voronoi, so code written for scipy mostly runs
 unchanged::
 
@@ -14,7 +14,8 @@ unchanged::
 
 Standard library and numpy only; one module, nothing to build.
 
-What the Diagram holds (scipy's names first; every index is a numpy int):
+What the Diagram holds (scipy's names first; index arrays are int32, as
+scipy's, and read-only views into the answer):
 
 - ``points``        (n, 2) float64, the points as sent.
 - ``vertices``      (nv, 2) float64, one per circle through three or more
@@ -40,12 +41,14 @@ What the Diagram holds (scipy's names first; every index is a numpy int):
                     scipy there is no empty region. ``region_indptr`` and
                     ``region_vertices`` hold the same as flat arrays (region
                     r is region_vertices[region_indptr[r]:region_indptr[r+1]])
-                    and are the fast way for large diagrams; ``regions`` is
-                    built from them on first use.
+                    and are the fast way for large diagrams. Both are
+                    derived on first use, as are ``ridge_rays`` and
+                    ``duplicates``: a caller that only wants the ridges
+                    does not pay for them.
 - ``point_region``  (n,) int, the region of every point (a duplicate has
                     its first occurrence's region).
-- ``region_point``  (nr,) int, the first-occurrence index of each region's
-                    point; ``region_bounded`` (nr,) bool.
+- ``region_point``  (n_sites,) int, the first-occurrence index of each
+                    region's point; ``region_bounded`` (n_sites,) bool.
 - ``duplicates``    (k, 2) int, [index, index of its first occurrence] for
                     every repeated point.
 - ``triangles``     (nt, 3) int, the Delaunay triangles counter-clockwise
@@ -66,6 +69,7 @@ service raise VoronoidError with its problem document (status, detail,
 pointer).
 """
 
+import functools
 import json
 import struct
 import urllib.error
@@ -136,13 +140,15 @@ def _bounds_param(bounds):
 
 class Diagram:
     """The Voronoi diagram of ``points`` as the service computed it (see the
-    module's documentation for every attribute). Arrays are read-only views
-    into the answer's bytes, except those derived here."""
+    module's documentation for every attribute). The arrays read from the
+    answer are read-only views into its bytes (int32 indices, as scipy's);
+    ``regions``, ``ridge_rays``, ``duplicates`` and the flat region arrays
+    are derived on first use, so a caller that wants only ridges does not
+    pay for them."""
 
     def __init__(self, points, answer):
         self.points = points
         self._parse(memoryview(answer))
-        self._regions = None
 
     def _parse(self, buf):
         (magic, version, algorithm, flags, n_input, n_sites, n_vertices,
@@ -151,85 +157,94 @@ class Diagram:
             raise ValueError(f"not a version 1 voronoid binary answer: {bytes(magic)!r}")
         pos = _HEADER.size
 
-        def take(dtype, count, pad=True):
+        def take(dtype, count):
             nonlocal pos
             a = np.frombuffer(buf, dtype=dtype, count=count, offset=pos)
-            pos += a.nbytes
-            if pad:
-                pos = (pos + 7) // 8 * 8
+            pos = (pos + a.nbytes + 7) // 8 * 8  # every section is padded to 8
             return a
 
         self.algorithm = _ALGORITHMS[algorithm]
         self.n_input, self.n_sites = n_input, n_sites
-        site_input = take("<u4", n_sites)
-        input_site = take("<u4", n_input)
+        # Indices are below 2^30 (the service's limit): u32 read as i32.
+        self.region_point = take("<i4", n_sites)
+        self.point_region = take("<i4", n_input)
         take("<f8", 2 * n_sites)  # the sites themselves: points[region_point]
         self.vertices = take("<f8", 2 * n_vertices).reshape(n_vertices, 2)
         edges = take("<i4", 4 * n_edges).reshape(n_edges, 4)
-        ray_edge = take("<u4", n_rays)
-        ray_dir = take("<f8", 2 * n_rays).reshape(n_rays, 2)
-        cell_start = take("<u4", n_sites + 1)
-        cell_edges = take("<u4", 2 * n_edges)
-        bounded = take("u1", n_sites)
+        self._ray_edge = take("<i4", n_rays)
+        self._ray_dir = take("<f8", 2 * n_rays).reshape(n_rays, 2)
+        self._cell_start = take("<i4", n_sites + 1)
+        self._cell_edges = take("<i4", 2 * n_edges)
+        self.region_bounded = take("u1", n_sites).view(bool)
         self.triangles = None
         if flags & 1:
-            self.triangles = take("<u4", 3 * n_tri).reshape(n_tri, 3).astype(np.intp)
+            self.triangles = take("<i4", 3 * n_tri).reshape(n_tri, 3)
         self.clip_box = self.clip_edges = None
         self._clip_start = self._clip_xy = None
         if flags & 2:
             self.clip_box = take("<f8", 4)
             self.clip_edges = take("<f8", 4 * n_edges).reshape(n_edges, 4)
-            self._clip_start = take("<u4", n_sites + 1)
+            self._clip_start = take("<i4", n_sites + 1)
             self._clip_xy = take("<f8", 2 * n_clip).reshape(n_clip, 2)
         tv = take("<f8", 7)
         if pos != len(buf):
             raise ValueError(f"answer of {len(buf)} bytes, layout ends at {pos}")
         self.timings = dict(zip(_TIMINGS, tv.tolist()))
+        self.ridge_points = edges[:, :2]
+        self.ridge_vertices = edges[:, 2:]
 
-        self.ridge_points = edges[:, :2].astype(np.intp)
-        self.ridge_vertices = edges[:, 2:].astype(np.intp)
-        rays = np.full((n_edges, 2), np.nan)
-        rays[ray_edge] = ray_dir
-        self.ridge_rays = rays
-        self.region_point = site_input.astype(np.intp)
-        self.point_region = input_site.astype(np.intp)
-        self.region_bounded = bounded.astype(bool)
-        dup = np.flatnonzero(self.region_point[self.point_region] != np.arange(n_input))
-        self.duplicates = np.stack([dup, self.region_point[self.point_region[dup]]],
-                                   axis=1) if dup.size else np.zeros((0, 2), np.intp)
-        self._region_arrays(cell_start.astype(np.intp), cell_edges.astype(np.intp))
+    @functools.cached_property
+    def ridge_rays(self):
+        """(nr, 2): the unit direction of every unbounded ridge, NaN for the
+        others."""
+        rays = np.full((len(self.ridge_points), 2), np.nan)
+        rays[self._ray_edge] = self._ray_dir
+        return rays
 
-    def _region_arrays(self, start, cell_edges):
+    @functools.cached_property
+    def duplicates(self):
+        """(k, 2): [index, index of its first occurrence] of every repeated
+        point."""
+        first = self.region_point[self.point_region]
+        dup = np.flatnonzero(first != np.arange(self.n_input))
+        return np.stack([dup, first[dup]], axis=1)
+
+    @functools.cached_property
+    def _region_arrays(self):
         """Regions from the cells' counter-clockwise edge lists: between two
         consecutive edges of a cell lies the vertex they share; an unbounded
         cell's last pair (the edge to infinity, then the one coming back)
         shares none and gives -1. Vectorised: O(edges)."""
-        n = self.n_sites
+        n, start, cell_edges = self.n_sites, self._cell_start, self._cell_edges
         if len(self.vertices) == 0:  # at most two points, or all collinear
-            self.region_indptr = np.arange(n + 1, dtype=np.intp)
-            self.region_vertices = np.full(n, -1, dtype=np.intp)
-            return
-        counts = np.diff(start)
+            return np.arange(n + 1, dtype=np.int32), np.full(n, -1, dtype=np.int32)
         last = start[1:] - 1
-        nxt = np.arange(1, len(cell_edges) + 1, dtype=np.intp)
+        nxt = np.arange(1, len(cell_edges) + 1, dtype=np.int32)
         nxt[last] = start[:-1]  # wrap around each cell
-        ends = self.ridge_vertices
-        a, b = ends[cell_edges, 0], ends[cell_edges, 1]
-        c, d = ends[cell_edges[nxt], 0], ends[cell_edges[nxt], 1]
+        e0, e1 = self.ridge_vertices[:, 0], self.ridge_vertices[:, 1]
+        a, b = e0[cell_edges], e1[cell_edges]
+        following = cell_edges[nxt]
+        c, d = e0[following], e1[following]
         shared = np.where((a == c) | (a == d), a, b)
-        open_cells = ~self.region_bounded & (counts > 0)
+        open_cells = ~self.region_bounded & (start[1:] > start[:-1])
         shared[last[open_cells]] = -1
-        self.region_indptr = start
-        self.region_vertices = shared
+        return start, shared
 
     @property
+    def region_indptr(self):
+        """(n_sites + 1,): region r is region_vertices[indptr[r]:indptr[r+1]]."""
+        return self._region_arrays[0]
+
+    @property
+    def region_vertices(self):
+        """All regions' vertex indices, one after the other (-1: open)."""
+        return self._region_arrays[1]
+
+    @functools.cached_property
     def regions(self):
         """One list of vertex indices per region, as scipy's ``regions``."""
-        if self._regions is None:
-            flat = self.region_vertices.tolist()
-            ptr = self.region_indptr.tolist()
-            self._regions = [flat[ptr[r]:ptr[r + 1]] for r in range(self.n_sites)]
-        return self._regions
+        ptr, flat = self.region_indptr.tolist(), self.region_vertices.tolist()
+        return [flat[ptr[r]:ptr[r + 1]] for r in range(self.n_sites)]
 
     def cell_polygon(self, i):
         """The region of point i clipped to the box of ``bounds`` (or the
