@@ -246,7 +246,8 @@ double api_clock_ms(void);
  * filling res and its timings (prepare, compute, clip -- triangles count in
  * compute; queue_ms and parse_ms are left for the caller, total_ms is the
  * sum of all parts so far). Non-finite points give API_INVALID with pointer
- * "/points/i/k" and a detail naming the input index. */
+ * "/points/i/k" and a detail naming the input index; so does a request
+ * with a repeat count (r->repeat != 0), which belongs to comparisons. */
 api_code api_compute(const api_request *r, api_result *res, api_problem *p);
 
 /* Repeated measurement in a comparison: each algorithm runs `repeat`
