@@ -2,7 +2,9 @@
 #
 #   make            release build into build/ (libvor.a, voronoi, voronoid)
 #   make run        build and start the service on 127.0.0.1:8080
+#                   (PORT=N another port, ARGS='...' more voronoid flags)
 #   make test       sanitizer build (ASan+UBSan) into build/asan/, every test
+#   make python-client  the Python client against a daemon and scipy
 #   make tsan       the server's tests under ThreadSanitizer (make test runs it)
 #   make bench      benchmark tables and plots into build/bench/
 #   make deps       install missing Debian packages (root), or say how
@@ -26,7 +28,9 @@ PKG := pkg-config
 DEPS_BUILD := pkg-config gcc g++ make libgmp-dev libjansson-dev \
               libmicrohttpd-dev libcmocka-dev libcurl4-openssl-dev zlib1g-dev \
               libfast-float-dev libdragonbox-dev
-DEPS_TEST := curl chromium nginx-light
+# python3-numpy, python3-scipy: the Python client's test, run with Debian's
+# /usr/bin/python3 whatever python3 comes first on PATH.
+DEPS_TEST := curl chromium nginx-light python3-numpy python3-scipy
 # node and npm: the machine's own if it has them (a NodeSource build bundles
 # npm and conflicts with Debian's npm package), Debian's otherwise.
 DEPS_NODE := $(if $(shell command -v npm),,nodejs npm)
@@ -72,7 +76,7 @@ TESTS_INT := $(wildcard tests/integration/test_*.c)
 
 .PHONY: all run test tsan bench deps deps-test deps-bench clean unit \
         integration browser deploy-test openapi-lint check-deps fuzz \
-        fuzz-quick
+        fuzz-quick python-client
 .DELETE_ON_ERROR:
 
 all: deps $(B)/voronoi $(B)/voronoid
@@ -150,8 +154,13 @@ $(eval $(call EMBED,$(B)/tsan,tsan))
 tbin = $(patsubst %.c,$(1)/%,$(2))
 
 # ---- run -----------------------------------------------------------------
+# make run PORT=9000 ARGS='--workers 1': PORT becomes --port only when
+# given, so that VORONOID_PORT (and every other VORONOID_* variable) in the
+# environment still counts; voronoid's own defaults are 127.0.0.1:8080.
+PORT ?=
+ARGS ?=
 run: all
-	./$(B)/voronoid --bind 127.0.0.1 --port 8080
+	./$(B)/voronoid$(if $(PORT), --port $(PORT))$(if $(ARGS), $(ARGS))
 
 # ---- tests ---------------------------------------------------------------
 # Every test binary runs even when one fails; the target fails at the end
@@ -188,10 +197,17 @@ browser openapi-lint deploy-test: deps-test all
 	@d=tests/$(subst -test,,$(subst -lint,,$@)); \
 	if [ -x $$d/run ]; then $$d/run; else echo "$$d/run: none"; fi
 
+# The Python client (clients/python) against a sanitizer-built daemon,
+# checked against scipy.spatial and the service's own JSON.
+PYTHON_TEST := /usr/bin/python3
+python-client: deps deps-test $(B)/asan/voronoid
+	$(ASAN_ENV) VOR_DAEMON=$(B)/asan/voronoid \
+	    $(PYTHON_TEST) clients/python/test_voronoid.py
+
 test: deps deps-test
 	@fail=0; failed=; \
 	for t in unit integration tsan fuzz-quick openapi-lint browser \
-	         deploy-test; do \
+	         deploy-test python-client; do \
 	    $(MAKE) --no-print-directory $$t || { fail=1; failed="$$failed $$t"; }; \
 	done; \
 	if [ $$fail = 0 ]; then echo "make test: all passed"; \

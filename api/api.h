@@ -97,13 +97,18 @@ int api_buf_printf(api_buf *b, const char *fmt, ...)
 
 /* ---- Requests ----------------------------------------------------------- */
 
-/* API_IN_AUTO: JSON if the first byte that is not white space is '{' or
- * '[', text otherwise (binary is never guessed). */
+/* API_IN_AUTO: JSON if the first byte that is not white space (after a
+ * UTF-8 byte order mark) is '{' or '[', text otherwise (binary is never
+ * guessed); an empty body is JSON's "empty body" problem. API_IN_PLAIN
+ * (text/plain): the same guess, but an empty body is text (no points) --
+ * a browser's fetch() of a JSON string without a Content-Type sends
+ * text/plain;charset=UTF-8, and a text body never starts with '{' or '['. */
 typedef enum api_input {
     API_IN_JSON,
     API_IN_TEXT,
     API_IN_BINARY,
-    API_IN_AUTO
+    API_IN_AUTO,
+    API_IN_PLAIN
 } api_input;
 /* API_FMT_TIMINGS: only the JSON timings object (command line, benchmarks). */
 typedef enum api_format {
@@ -142,6 +147,8 @@ typedef struct api_limits {
 
 typedef struct api_request {
     vor_algorithm algorithm;
+    int repeat;      /* runs per algorithm of a comparison; 0 = default
+                        (api_compare_repeat) */
     int has_bounds;
     double bounds[4]; /* xmin, ymin, xmax, ymax */
     unsigned parts;
@@ -158,7 +165,7 @@ void api_request_clear(api_request *r);
 
 /* Content-Type header (parameters allowed, case-insensitive) -> input kind:
  * application/json, text/json and any application/...+json -> JSON;
- * text/csv, text/plain, text/tab-separated-values -> text;
+ * text/csv, text/tab-separated-values -> text; text/plain -> API_IN_PLAIN;
  * application/octet-stream -> binary; NULL, empty or
  * application/x-www-form-urlencoded (what `curl --data-binary` sends
  * unless told otherwise) -> API_IN_AUTO. API_MEDIA_TYPE otherwise. */
@@ -179,9 +186,10 @@ api_code api_parse_body(api_request *r, api_input kind, const char *body,
 /* Applies one option given outside the body (query string, CLI flag):
  * "algorithm", "bounds" ("xmin,ymin,xmax,ymax"), "format" (json, geojson,
  * svg, binary, timings), "include" (comma-separated part names, possibly
- * none), "trace" (true or false). Applied after api_parse_body, they win
- * over the body's options.
- * Unknown keys give API_MALFORMED; bad values API_INVALID (r unchanged). */
+ * none), "repeat" (an integer 1..API_REPEAT_MAX, for comparisons), "trace"
+ * (true or false). Applied after api_parse_body, they win over the body's
+ * options. Unknown keys give API_MALFORMED; bad values API_INVALID (r
+ * unchanged). */
 api_code api_request_option(api_request *r, const char *key, const char *value,
                             api_problem *p);
 
@@ -250,27 +258,65 @@ double api_clock_ms(void);
  * compute; queue_ms and parse_ms are left for the caller, total_ms is the
  * sum of all parts so far) and counts; with r->trace, the steps (in
  * res->trace). Non-finite points give API_INVALID with pointer
- * "/points/i/k" and a detail naming the input index; a trace of more than
- * API_TRACE_MAX_POINTS points, or in a format other than JSON, API_INVALID
- * with pointer "/trace". */
+ * "/points/i/k" and a detail naming the input index; so does a request
+ * with a repeat count (r->repeat != 0), which belongs to comparisons; a
+ * trace of more than API_TRACE_MAX_POINTS points, or in a format other
+ * than JSON, gives API_INVALID with pointer "/trace". */
 api_code api_compute(const api_request *r, api_result *res, api_problem *p);
 
+/* Repeated measurement in a comparison: each algorithm runs `repeat`
+ * times (1..API_REPEAT_MAX) on the same prepared sites, and repeat times
+ * the number of points is at most API_REPEAT_WORK_MAX, so that one request
+ * stays within a deadline. */
+#define API_REPEAT_MAX 50
+#define API_REPEAT_WORK_MAX ((size_t)10000000)
+
+/* The runs per algorithm a comparison of r makes once it has n_sites
+ * distinct sites: r->repeat when given, else 5 up to 20,000 sites, 3 up to
+ * 200,000, 1 beyond. */
+int api_compare_repeat(const api_request *r, size_t n_sites);
+
+/* The phases measured in every run of a comparison, in the order of
+ * api_compare.runs. */
+enum { API_RUN_COMPUTE, API_RUN_CLIP, API_RUN_TOTAL, API_RUN_PHASES };
+
 typedef struct api_compare {
-    api_timings t;          /* shared: queue_ms and parse_ms are the
-                               caller's; total_ms is set by the run */
+    api_timings t;          /* the request's: queue_ms and parse_ms are the
+                               caller's; prepare_ms the one preparation of
+                               the sites; compute_ms and clip_ms summed over
+                               every run; total_ms is set by the run */
+    vor_sites *sites;       /* prepared once, shared by every run */
+    int repeat;             /* runs per algorithm */
+    int has_clip;           /* the runs clip (bounds were given) */
+    /* Per algorithm: res.diagram is its first run's diagram (res.sites
+     * stays NULL: the sites are c->sites); res.t holds the median of each
+     * phase over its runs, prepare_ms the shared preparation; runs[a][i]
+     * is run i's compute, clip and total ms (total = prepare + compute +
+     * clip), in run order; n_runs[a] runs were made. */
     api_result res[VOR_ALGORITHM_COUNT];
+    double runs[VOR_ALGORITHM_COUNT][API_REPEAT_MAX][API_RUN_PHASES];
+    int n_runs[VOR_ALGORITHM_COUNT];
     vor_status status[VOR_ALGORITHM_COUNT]; /* per algorithm: VOR_OK or why
                                                it has no diagram */
-    int agree;              /* all diagrams computed and identical */
+    int agree;              /* all diagrams computed and identical (every
+                               run of every algorithm) */
     char disagreement[256]; /* first difference found, "" if they agree */
 } api_compare;
 
 void api_compare_init(api_compare *c);
 void api_compare_clear(api_compare *c);
-/* Runs every algorithm on r's points. An algorithm that fails on its own
- * (not available, out of memory) is recorded in c->status and makes agree
- * 0; invalid input fails the whole call as api_compute would, and so does
- * a trace (API_INVALID: /compare does not trace). */
+/* Prepares r's sites once, then runs every algorithm api_compare_repeat
+ * times in rounds (round k runs each algorithm once, the order rotated by
+ * k, so no algorithm always runs first or last), clipping each run's
+ * diagram when r has bounds. Every run's diagram must equal the
+ * algorithm's first and the algorithms' first diagrams must equal each
+ * other, else agree is 0 with the first difference in disagreement. An
+ * algorithm that fails on its own (not available, out of memory) is
+ * recorded in c->status, is not run again, and makes agree 0; invalid
+ * input fails the whole call as api_compute would, and so does a repeat
+ * over API_REPEAT_WORK_MAX / points, or a trace (API_INVALID: /compare
+ * does not trace). Each algorithm's counts (res[a].counts) are its first
+ * run's; a run's counts are the same in every run. */
 api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
 
 /* ---- Writing ------------------------------------------------------------ */
@@ -279,8 +325,8 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p);
  * "image/svg+xml", "application/octet-stream"). */
 const char *api_format_mime(api_format f);
 
-/* Writes the result in r->format (appending to out). The timings are the
- * body's last member: the writer measures its own time into
+/* Writes the result in r->format (appending to out); every format but
+ * binary ends with a newline. The timings are the body's last member: the writer measures its own time into
  * t->serialize_ms and sets t->total_ms = max(t->total_ms, queue + parse +
  * prepare + compute + clip) + serialize_ms before writing them (so a caller
  * may put its own wall-clock time so far in total_ms, and can reuse t for a
@@ -288,13 +334,15 @@ const char *api_format_mime(api_format f);
  * out (out is then cleared). */
 api_code api_write_result(const api_request *r, const api_result *res,
                           api_timings *t, api_buf *out, api_problem *p);
-/* JSON only: per-algorithm status, timings and counts, agreement, and the
- * shared timings (c->t, with the writer's serialize_ms). */
+/* JSON only: repeat, per-algorithm status, counts, median timings, their
+ * spread (median, min, max of each phase measured per run) and the compute
+ * ms of every run, agreement, and the shared timings (c->t, with the
+ * writer's serialize_ms). */
 api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p);
 /* application/problem+json body for p: type (API_PROBLEM_TYPE_PREFIX +
  * slug), title, status, detail, instance (when not NULL), pointer (when
- * set), line (when set). */
+ * set), line (when set), and a newline. */
 void api_write_problem(const api_problem *p, const char *instance,
                        api_buf *out);
 

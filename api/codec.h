@@ -37,6 +37,11 @@ api_code api__add_part(unsigned *parts, const char *name, size_t n,
 api_code api__set_bounds(api_request *r, const double box[4],
                          const char *pointer, api_problem *p);
 
+/* Checks a comparison's repeat count (an integer 1..API_REPEAT_MAX; v is
+ * the number as given) and stores it in r. */
+api_code api__set_repeat(api_request *r, double v, const char *pointer,
+                         api_problem *p);
+
 /* Parts the writers produce for r: r->parts, plus API_PART_CLIPPED when
  * bounds were given and the parts were not chosen explicitly. */
 unsigned api__effective_parts(const api_request *r);

@@ -4,10 +4,14 @@
  * The steps are the core's (vor_sites_new, vor_compute, vor_clip,
  * vor_diagram_triangles); this file maps their statuses to problems,
  * decides which optional steps a request needs, and times each step with
- * the monotonic clock. A comparison runs every algorithm on its own copy of
- * the sites and compares the diagrams field by field (vor_diagram_equal
- * decides; a field-by-field walk explains the first difference). Cost: the
- * core's, plus O(n) for the comparison. */
+ * the monotonic clock. A comparison prepares the sites once and runs every
+ * algorithm on them `repeat` times in rounds whose order rotates, so that
+ * caches warmed by one algorithm, or a machine slowing down, do not always
+ * favour the same one; it keeps each algorithm's first diagram, checks
+ * every later run against it (vor_diagram_equal) and the algorithms
+ * against each other (a field-by-field walk explains the first
+ * difference), and reports the median, minimum and maximum of every phase.
+ * Cost: the core's times the runs, plus O(n) a run for the checks. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,21 +59,15 @@ static api_code check_trace(const api_request *r, api_problem *p) {
     return API_OK;
 }
 
-/* Like api_compute, also reporting the core's status (VOR_OK when the
- * failure is not the core's). */
-static api_code compute(const api_request *r, api_result *res, api_problem *p,
-                        vor_status *core) {
-    api_timings keep = res->t;
-    api_result_clear(res);
-    res->t.queue_ms = keep.queue_ms;
-    res->t.parse_ms = keep.parse_ms;
-    res->algorithm = r->algorithm;
+/* Validates and de-duplicates r's points into *sites; a non-finite point
+ * is API_INVALID naming it, a failure of the core (out of memory, too
+ * many points) is the core's problem, with its status in *core (VOR_OK
+ * when the failure is not the core's). */
+static api_code prepare(const api_request *r, vor_sites **sites,
+                        api_problem *p, vor_status *core) {
     *core = VOR_OK;
-    if (check_trace(r, p) != API_OK) return p->code;
-
-    double t0 = api_clock_ms();
     size_t bad = 0;
-    vor_status st = vor_sites_new(r->xy, r->n, &res->sites, &bad);
+    vor_status st = vor_sites_new(r->xy, r->n, sites, &bad);
     if (st == VOR_ENONFINITE) {
         int k = bad < r->n && isfinite(r->xy[2 * bad]) ? 1 : 0;
         char ptr[64];
@@ -89,13 +87,30 @@ static api_code compute(const api_request *r, api_result *res, api_problem *p,
         }
         return p->code;
     }
+    return API_OK;
+}
+
+/* Like api_compute, also reporting the core's status (VOR_OK when the
+ * failure is not the core's). */
+static api_code compute(const api_request *r, api_result *res, api_problem *p,
+                        vor_status *core) {
+    api_timings keep = res->t;
+    api_result_clear(res);
+    res->t.queue_ms = keep.queue_ms;
+    res->t.parse_ms = keep.parse_ms;
+    res->algorithm = r->algorithm;
+    *core = VOR_OK;
+    if (check_trace(r, p) != API_OK) return p->code;
+
+    double t0 = api_clock_ms();
+    if (prepare(r, &res->sites, p, core) != API_OK) return p->code;
     double t1 = api_clock_ms();
     res->t.prepare_ms = t1 - t0;
 
     api__tracer tracer = {&res->trace, res->sites, r->algorithm, {0}, 0};
     vor_options opt = {&res->counts, r->trace ? api__trace_step : NULL,
                        &tracer};
-    st = vor_compute_ex(res->sites, r->algorithm, &opt, &res->diagram);
+    vor_status st = vor_compute_ex(res->sites, r->algorithm, &opt, &res->diagram);
     res->traced = r->trace;
     if (st == VOR_OK && res->trace.oom) st = VOR_ENOMEM;
     if (st == VOR_OK && (api__effective_parts(r) & API_PART_TRIANGLES)) {
@@ -139,6 +154,17 @@ static api_code compute(const api_request *r, api_result *res, api_problem *p,
 }
 
 api_code api_compute(const api_request *r, api_result *res, api_problem *p) {
+    if (r->repeat != 0) {
+        api_timings keep = res->t;
+        api_result_clear(res);
+        res->t = keep;
+        return api__problem_at(p, API_INVALID, NULL, 0,
+                               "repeat %d: repeat applies only to a "
+                               "comparison of the algorithms (POST /compare, "
+                               "voronoi --compare); one diagram is computed "
+                               "once",
+                               r->repeat);
+    }
     vor_status core;
     return compute(r, res, p, &core);
 }
@@ -150,6 +176,7 @@ void api_compare_init(api_compare *c) {
 
 void api_compare_clear(api_compare *c) {
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) api_result_clear(&c->res[a]);
+    vor_sites_free(c->sites);
     api_compare_init(c);
 }
 
@@ -212,6 +239,50 @@ int api__diagram_difference(const vor_diagram *p, const vor_diagram *q,
     return 0;
 }
 
+/* The median of v[0..n-1] (the mean of the middle two for even n), n <=
+ * API_REPEAT_MAX; 0 for n == 0. */
+static double median(const double *v, int n) {
+    double w[API_REPEAT_MAX];
+    for (int i = 0; i < n; i++) {
+        int j = i;
+        for (; j > 0 && w[j - 1] > v[i]; j--) w[j] = w[j - 1];
+        w[j] = v[i];
+    }
+    if (n == 0) return 0;
+    return n % 2 ? w[n / 2] : (w[n / 2 - 1] + w[n / 2]) / 2;
+}
+
+/* One run of algorithm a on c->sites: the diagram, clipped to box when
+ * box != NULL (the clipped diagram is not kept), timed into c->runs.
+ * Returns the core's status; on success *d is the new diagram. */
+static vor_status run_once(api_compare *c, vor_algorithm a, const double *box,
+                           vor_diagram **d) {
+    double t0 = api_clock_ms();
+    vor_counts counts;
+    vor_options opt = {&counts, NULL, NULL};
+    vor_status st = vor_compute_ex(c->sites, a, &opt, d);
+    double t1 = api_clock_ms(), t2 = t1;
+    if (st == VOR_OK) c->res[a].counts = counts; /* the same every run */
+    if (st == VOR_OK && box != NULL) {
+        vor_clipped *cl = NULL;
+        st = vor_clip(*d, c->sites, box, &cl);
+        t2 = api_clock_ms();
+        vor_clipped_free(cl);
+    }
+    if (st != VOR_OK) {
+        vor_diagram_free(*d);
+        *d = NULL;
+        return st;
+    }
+    double *run = c->runs[a][c->n_runs[a]++];
+    run[API_RUN_COMPUTE] = t1 - t0;
+    run[API_RUN_CLIP] = t2 - t1;
+    run[API_RUN_TOTAL] = c->t.prepare_ms + (t1 - t0) + (t2 - t1);
+    c->t.compute_ms += t1 - t0;
+    c->t.clip_ms += t2 - t1;
+    return VOR_OK;
+}
+
 api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
     api_timings shared = c->t;
     api_compare_clear(c);
@@ -222,37 +293,91 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
                                "trace is available from /voronoi, which "
                                "runs one algorithm; /compare does not trace");
     }
-    api_request sub = *r;
-    sub.format = API_FMT_JSON;
-    sub.parts = 0;
-    sub.parts_given = 1;
-    sub.has_bounds = 0;
-    double work = 0;
+    if (r->repeat > 1 && r->n > API_REPEAT_WORK_MAX / (size_t)r->repeat) {
+        return api__problem_at(
+            p, API_INVALID, NULL, 0,
+            "repeat %d with %zu points: repeat times points must be at most "
+            "%zu, so at most %zu repeats here",
+            r->repeat, r->n, API_REPEAT_WORK_MAX,
+            r->n > API_REPEAT_WORK_MAX ? (size_t)1 : API_REPEAT_WORK_MAX / r->n);
+    }
+
+    double t0 = api_clock_ms();
+    vor_status core;
+    if (prepare(r, &c->sites, p, &core) != API_OK) {
+        api_compare_clear(c);
+        return p->code;
+    }
+    c->t.prepare_ms = api_clock_ms() - t0;
+    c->repeat = api_compare_repeat(r, c->sites->n);
+    c->has_clip = r->has_bounds;
+    const double *box = r->has_bounds ? r->bounds : NULL;
+
+    /* Round k runs the algorithms in the order k, k+1, ... (mod count). */
+    char run_diff[256] = "";
+    for (int k = 0; k < c->repeat; k++) {
+        for (int i = 0; i < VOR_ALGORITHM_COUNT; i++) {
+            vor_algorithm a = (vor_algorithm)((k + i) % VOR_ALGORITHM_COUNT);
+            api_result *res = &c->res[a];
+            if (c->status[a] != VOR_OK) continue;
+            vor_diagram *d = NULL;
+            vor_status st = run_once(c, a, box, &d);
+            if (st != VOR_OK && st != VOR_ENOMEM && st != VOR_EUNAVAILABLE) {
+                /* Not the algorithm's own failure: the request's. */
+                api_problem_from_status(p, st);
+                snprintf(p->detail, sizeof p->detail, "%s: %s",
+                         vor_algorithm_name(a), vor_status_message(st));
+                if (st == VOR_EBOUNDS) {
+                    snprintf(p->pointer, sizeof p->pointer, "/bounds");
+                }
+                api_compare_clear(c);
+                return p->code;
+            }
+            if (st != VOR_OK) {
+                c->status[a] = st;
+                vor_diagram_free(res->diagram);
+                res->diagram = NULL;
+                continue;
+            }
+            if (res->diagram == NULL) {
+                res->diagram = d;
+                continue;
+            }
+            if (run_diff[0] == 0 && !vor_diagram_equal(res->diagram, d)) {
+                char first[128] = "";
+                const char *name = vor_algorithm_name(a);
+                api__diagram_difference(res->diagram, d, "run 1", "this run",
+                                        first, sizeof first);
+                snprintf(run_diff, sizeof run_diff,
+                         "%s: run %d gave another diagram than run 1 (%s)",
+                         name, c->n_runs[a], first);
+            }
+            vor_diagram_free(d);
+        }
+    }
+
     int ok = 0;
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
-        sub.algorithm = (vor_algorithm)a;
-        api_problem pa;
-        vor_status core;
-        api_code code = compute(&sub, &c->res[a], &pa, &core);
-        if (code != API_OK && core == VOR_OK) { /* the input's fault */
-            *p = pa;
-            api_compare_clear(c);
-            return code;
+        api_result *res = &c->res[a];
+        res->algorithm = (vor_algorithm)a;
+        if (c->status[a] != VOR_OK) continue;
+        ok++;
+        double v[API_REPEAT_MAX];
+        double med[API_RUN_PHASES];
+        for (int ph = 0; ph < API_RUN_PHASES; ph++) {
+            for (int i = 0; i < c->n_runs[a]; i++) v[i] = c->runs[a][i][ph];
+            med[ph] = median(v, c->n_runs[a]);
         }
-        if (code != API_OK && core == VOR_ETOOMANY) {
-            *p = pa;
-            api_compare_clear(c);
-            return code;
-        }
-        c->status[a] = code == API_OK ? VOR_OK : core;
-        ok += code == API_OK;
-        work += c->res[a].t.prepare_ms + c->res[a].t.compute_ms;
+        res->t.prepare_ms = c->t.prepare_ms;
+        res->t.compute_ms = med[API_RUN_COMPUTE];
+        res->t.clip_ms = med[API_RUN_CLIP];
+        res->t.total_ms = med[API_RUN_TOTAL];
     }
     if (ok == 0 && c->status[0] == VOR_ENOMEM) {
         api_compare_clear(c);
         return api_problem_from_status(p, VOR_ENOMEM);
     }
-    c->agree = ok == VOR_ALGORITHM_COUNT;
+    c->agree = ok == VOR_ALGORITHM_COUNT && run_diff[0] == 0;
     int ref = -1;
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
         const char *name = vor_algorithm_name((vor_algorithm)a);
@@ -279,7 +404,11 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
             }
         }
     }
-    c->t.total_ms = c->t.queue_ms + c->t.parse_ms + work;
+    if (c->disagreement[0] == 0 && run_diff[0] != 0) {
+        snprintf(c->disagreement, sizeof c->disagreement, "%s", run_diff);
+    }
+    c->t.total_ms = c->t.queue_ms + c->t.parse_ms + c->t.prepare_ms +
+                    c->t.compute_ms + c->t.clip_ms;
     p->code = API_OK;
     return API_OK;
 }

@@ -452,7 +452,7 @@ static api_code read_points(const scan *sc, const char **pp,
 #define PLAIN_MAX 32
 
 static const char *const known_keys = "points, generate, algorithm, bounds, "
-                                      "include, format, trace";
+                                      "include, format, repeat, trace";
 
 /* Escapes a key for a JSON pointer (RFC 6901: ~ -> ~0, / -> ~1). */
 static void key_pointer(const char *key, char *dst, size_t size) {
@@ -529,6 +529,17 @@ static api_code apply_trace(api_request *r, json_t *v, api_problem *p) {
     }
     r->trace = json_is_true(v);
     return API_OK;
+}
+
+/* "repeat": an integer 1..API_REPEAT_MAX (an integral real like 5.0 too,
+ * as JSON does not tell them apart). */
+static api_code apply_repeat(api_request *r, json_t *v, api_problem *p) {
+    if (!json_is_number(v)) {
+        return api__problem_at(p, API_INVALID, "/repeat", 0,
+                               "repeat must be an integer from 1 to %d, got %s",
+                               API_REPEAT_MAX, json_type_name(v));
+    }
+    return api__set_repeat(r, json_number_value(v), "/repeat", p);
 }
 
 /* {"distribution": "...", "n": N, "seed": S} -> generated points. */
@@ -618,7 +629,7 @@ static api_code apply_generate(api_request *r, json_t *v, const api_limits *lim,
 /* Members of the top-level object, kept until the object is read so they
  * apply in a fixed order whatever their order in the body. */
 typedef struct members {
-    json_t *algorithm, *format, *include, *generate, *trace;
+    json_t *algorithm, *format, *include, *generate, *repeat, *trace;
     int has_points, has_bounds_null;
     int has_bounds;
     double bounds[4];
@@ -653,6 +664,7 @@ static void members_free(members *m) {
     json_decref(m->format);
     json_decref(m->include);
     json_decref(m->generate);
+    json_decref(m->repeat);
     json_decref(m->trace);
 }
 
@@ -776,6 +788,8 @@ static api_code read_object(const scan *sc, const char **pp, points *pts,
             slot = &m->include;
         } else if (strcmp(key, "generate") == 0) {
             slot = &m->generate;
+        } else if (strcmp(key, "repeat") == 0) {
+            slot = &m->repeat;
         } else if (strcmp(key, "trace") == 0) {
             slot = &m->trace;
         } else {
@@ -855,6 +869,7 @@ static api_code parse_json(api_request *r, const char *body, size_t len,
             goto done;
         }
         if (m.include && (c = apply_include(r, m.include, prob))) goto done;
+        if (m.repeat && (c = apply_repeat(r, m.repeat, prob))) goto done;
         if (m.trace && (c = apply_trace(r, m.trace, prob))) goto done;
         if (m.generate && m.has_points) {
             c = api__problem_at(prob, API_INVALID, "/generate", 0,
@@ -1058,12 +1073,13 @@ api_code api_parse_body(api_request *r, api_input kind, const char *body,
         body = "";
         len = 0;
     }
-    if (kind == API_IN_AUTO) {
+    if (kind == API_IN_AUTO || kind == API_IN_PLAIN) {
         const char *s = body, *end = body + len;
         if (len >= 3 && memcmp(s, "\xef\xbb\xbf", 3) == 0) s += 3;
         s = skip_ws(s, end);
+        int empty_json = kind == API_IN_AUTO; /* empty: the JSON message */
         kind = s < end && (*s == '{' || *s == '[') ? API_IN_JSON : API_IN_TEXT;
-        if (s == end) kind = API_IN_JSON; /* empty: the JSON message */
+        if (s == end && empty_json) kind = API_IN_JSON;
     }
     api_code c;
     switch (kind) {

@@ -78,5 +78,5 @@ void api_write_problem(const api_problem *p, const char *instance,
         api__put_json_string(out, p->pointer);
     }
     if (p->line > 0) api_buf_printf(out, ",\"line\":%ld", p->line);
-    API_BUF_LIT(out, "}");
+    API_BUF_LIT(out, "}\n");
 }

@@ -1,5 +1,5 @@
 /* request.c -- request options: defaults, the values every front end
- * shares (algorithm, format, parts, bounds) and the HTTP negotiation of
+ * shares (algorithm, format, parts, bounds, repeat) and the HTTP negotiation of
  * input (Content-Type) and output (Accept) formats.
  *
  * One validator per option value, used by JSON bodies (with a JSON pointer)
@@ -139,6 +139,27 @@ api_code api__set_bounds(api_request *r, const double b[4],
     return API_OK;
 }
 
+api_code api__set_repeat(api_request *r, double v, const char *pointer,
+                         api_problem *p) {
+    if (v >= 1 && v <= API_REPEAT_MAX && v == floor(v)) {
+        r->repeat = (int)v;
+        return API_OK;
+    }
+    char shown[API_NUM_MAXLEN + 1];
+    size_t n = api_num_format(v, shown);
+    shown[n] = 0;
+    return api__problem_at(p, API_INVALID, pointer, 0,
+                           "repeat %s is %s; give an integer from 1 to %d",
+                           n ? shown : "?",
+                           v != floor(v) ? "not an integer" : "out of range",
+                           API_REPEAT_MAX);
+}
+
+int api_compare_repeat(const api_request *r, size_t n_sites) {
+    if (r->repeat > 0) return r->repeat;
+    return n_sites <= 20000 ? 5 : n_sites <= 200000 ? 3 : 1;
+}
+
 unsigned api__effective_parts(const api_request *r) {
     unsigned parts = r->parts;
     if (r->has_bounds && !r->parts_given) parts |= API_PART_CLIPPED;
@@ -232,6 +253,20 @@ api_code api_request_option(api_request *r, const char *key, const char *value,
     }
     if (strcmp(key, "format") == 0) return api__set_format(r, value, NULL, p);
     if (strcmp(key, "bounds") == 0) return option_bounds(r, value, p);
+    if (strcmp(key, "repeat") == 0) {
+        double v;
+        const char *stop, *end = value + strlen(value);
+        if (api_num_parse_text(value, end, &v, &stop) != API_NUM_OK ||
+            stop != end) {
+            char shown[80];
+            api__quote_excerpt(shown, sizeof shown, value, strlen(value), 40);
+            return api__problem_at(p, API_INVALID, NULL, 0,
+                                   "repeat \"%s\" is not a number; give an "
+                                   "integer from 1 to %d",
+                                   shown, API_REPEAT_MAX);
+        }
+        return api__set_repeat(r, v, NULL, p);
+    }
     if (strcmp(key, "include") == 0) {
         unsigned parts = 0;
         const char *s = value;
@@ -265,7 +300,7 @@ api_code api_request_option(api_request *r, const char *key, const char *value,
     api__quote_excerpt(shown, sizeof shown, key, strlen(key), 40);
     return api__problem_at(p, API_MALFORMED, NULL, 0,
                            "unknown option \"%s\"; known: algorithm, bounds, "
-                           "format, include, trace",
+                           "format, include, repeat, trace",
                            shown);
 }
 
@@ -302,9 +337,13 @@ api_code api_input_from_content_type(const char *content_type, api_input *out,
             *out = API_IN_JSON;
             return API_OK;
         }
-        if (strcmp(t, "text/csv") == 0 || strcmp(t, "text/plain") == 0 ||
+        if (strcmp(t, "text/csv") == 0 ||
             strcmp(t, "text/tab-separated-values") == 0) {
             *out = API_IN_TEXT;
+            return API_OK;
+        }
+        if (strcmp(t, "text/plain") == 0) {
+            *out = API_IN_PLAIN;
             return API_OK;
         }
         if (strcmp(t, "application/octet-stream") == 0) {

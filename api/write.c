@@ -4,7 +4,8 @@
  * Each format has its own file (write_json.c, write_geojson.c,
  * write_svg.c, write_binary.c) appending to one api_buf; this file measures
  * the serialisation time they report and turns a failed allocation into a
- * problem with an empty buffer. */
+ * problem with an empty buffer. Every document but the binary one ends
+ * with a newline, so that it prints and concatenates cleanly in a shell. */
 #include <math.h>
 #include <string.h>
 
@@ -42,9 +43,10 @@ static void put_ms(api_buf *out, double v) {
     }
 }
 
-int api__put_timings(api_buf *out, const api_timings *t) {
+/* The timings' members, "queue_ms":...,"total_ms":... (no braces). */
+static int put_timing_members(api_buf *out, const api_timings *t) {
     static const char *const keys[] = {
-        "{\"queue_ms\":", ",\"parse_ms\":",     ",\"prepare_ms\":",
+        "\"queue_ms\":", ",\"parse_ms\":",     ",\"prepare_ms\":",
         ",\"compute_ms\":", ",\"clip_ms\":",    ",\"serialize_ms\":",
         ",\"total_ms\":",
     };
@@ -56,9 +58,37 @@ int api__put_timings(api_buf *out, const api_timings *t) {
         api__put(out, keys[i], strlen(keys[i]));
         put_ms(out, v[i]);
     }
-    api__putc(out, '}');
     out->data[out->len] = 0;
     return 0;
+}
+
+int api__put_timings(api_buf *out, const api_timings *t) {
+    if (API_BUF_LIT(out, "{") || put_timing_members(out, t)) return -1;
+    return API_BUF_LIT(out, "}");
+}
+
+/* format=timings: the timings labelled with the algorithm and the sizes,
+ * one flat object, so that rows of a scripted sweep carry their own
+ * labels: {"algorithm":"fortune","n_input":N,"n_sites":M,"queue_ms":...};
+ * with include=counts, the counts last ("counts":{...}). */
+static int write_timings_only(const api_request *r, const api_result *res,
+                              api_timings *t, double t0, api_buf *out) {
+    const char *name = vor_algorithm_name(res->algorithm);
+    if (api__reserve(out, 64 + strlen(name))) return -1;
+    API__PUTS(out, "{\"algorithm\":\"");
+    api__put(out, name, strlen(name));
+    API__PUTS(out, "\",\"n_input\":");
+    api__put_u32(out, (uint32_t)res->sites->n_input);
+    API__PUTS(out, ",\"n_sites\":");
+    api__put_u32(out, (uint32_t)res->sites->n);
+    api__putc(out, ',');
+    api__finish_timings(t, t0);
+    if (put_timing_members(out, t)) return -1;
+    if ((api__effective_parts(r) & API_PART_COUNTS) &&
+        (API_BUF_LIT(out, ",\"counts\":") ||
+         api__put_counts(out, &res->counts, res->algorithm)))
+        return -1;
+    return API_BUF_LIT(out, "}\n");
 }
 
 void api__midpoint(const double *a, const double *b, double *out) {
@@ -86,16 +116,7 @@ api_code api_write_result(const api_request *r, const api_result *res,
     case API_FMT_GEOJSON: rc = api__write_geojson(r, res, t, t0, out); break;
     case API_FMT_SVG: rc = api__write_svg(r, res, t, t0, out); break;
     case API_FMT_BINARY: rc = api__write_binary(r, res, t, t0, out); break;
-    case API_FMT_TIMINGS:
-        api__finish_timings(t, t0);
-        rc = api__put_timings(out, t);
-        if (rc == 0 && (api__effective_parts(r) & API_PART_COUNTS)) {
-            out->len--; /* the closing brace, written again below */
-            rc = API_BUF_LIT(out, ",\"counts\":") ||
-                 api__put_counts(out, &res->counts, res->algorithm) ||
-                 API_BUF_LIT(out, "}");
-        }
-        break;
+    case API_FMT_TIMINGS: rc = write_timings_only(r, res, t, t0, out); break;
     default: rc = api__write_json(r, res, t, t0, out); break;
     }
     if (rc != 0 || out->oom) return out_of_memory(out, p);
@@ -103,15 +124,37 @@ api_code api_write_result(const api_request *r, const api_result *res,
     return API_OK;
 }
 
+/* "name":{"median":m,"min":a,"max":b} for phase ph of c's runs of a. */
+static void put_spread(api_buf *out, const api_compare *c, int a, int ph,
+                       const char *name, double med) {
+    double lo = 0, hi = 0;
+    for (int i = 0; i < c->n_runs[a]; i++) {
+        double v = c->runs[a][i][ph];
+        if (i == 0 || v < lo) lo = v;
+        if (i == 0 || v > hi) hi = v;
+    }
+    if (api__reserve(out, 64 + 3 * API_NUM_MAXLEN)) return;
+    api__putc(out, '"');
+    api__put(out, name, strlen(name));
+    API__PUTS(out, "\":{\"median\":");
+    put_ms(out, med);
+    API__PUTS(out, ",\"min\":");
+    put_ms(out, lo);
+    API__PUTS(out, ",\"max\":");
+    put_ms(out, hi);
+    api__putc(out, '}');
+}
+
 api_code api_write_compare(const api_request *r, const api_compare *c,
                            api_buf *out, api_problem *p) {
     (void)r;
     double t0 = api_clock_ms();
-    const vor_sites *s = NULL;
+    const vor_sites *s = c->sites;
     for (int a = 0; a < VOR_ALGORITHM_COUNT && s == NULL; a++) s = c->res[a].sites;
-    api_buf_printf(out, "{\"n_input\":%zu,\"n_sites\":%zu,\"agree\":%s,"
-                        "\"disagreement\":",
-                   s ? s->n_input : 0, s ? s->n : 0, c->agree ? "true" : "false");
+    api_buf_printf(out, "{\"n_input\":%zu,\"n_sites\":%zu,\"repeat\":%d,"
+                        "\"agree\":%s,\"disagreement\":",
+                   s ? s->n_input : 0, s ? s->n : 0, c->repeat,
+                   c->agree ? "true" : "false");
     if (c->disagreement[0]) {
         api__put_json_string(out, c->disagreement);
     } else {
@@ -138,13 +181,32 @@ api_code api_write_compare(const api_request *r, const api_compare *c,
         }
         API_BUF_LIT(out, ",\"timings\":");
         api__put_timings(out, &res->t);
+        if (code == API_OK) {
+            /* The spread of every phase measured per run; the medians are
+             * the timings' own. */
+            API_BUF_LIT(out, ",\"spread\":{");
+            put_spread(out, c, a, API_RUN_COMPUTE, "compute_ms", res->t.compute_ms);
+            if (c->has_clip) {
+                API_BUF_LIT(out, ",");
+                put_spread(out, c, a, API_RUN_CLIP, "clip_ms", res->t.clip_ms);
+            }
+            API_BUF_LIT(out, ",");
+            put_spread(out, c, a, API_RUN_TOTAL, "total_ms", res->t.total_ms);
+            API_BUF_LIT(out, "},\"runs_ms\":[");
+            for (int i = 0; i < c->n_runs[a]; i++) {
+                if (api__reserve(out, API_NUM_MAXLEN + 2)) break;
+                if (i) api__putc(out, ',');
+                put_ms(out, c->runs[a][i][API_RUN_COMPUTE]);
+            }
+            API_BUF_LIT(out, "]");
+        }
         API_BUF_LIT(out, "}");
     }
     API_BUF_LIT(out, "],\"timings\":");
     api_timings t = c->t;
     api__finish_timings(&t, t0);
     api__put_timings(out, &t);
-    API_BUF_LIT(out, "}");
+    API_BUF_LIT(out, "}\n");
     if (out->oom) return out_of_memory(out, p);
     p->code = API_OK;
     return API_OK;

@@ -8,7 +8,8 @@
  * cell is finite}. The box is the request's bounds, or else the sites'
  * bounding box expanded by 10% on every side; the collection says which in
  * foreign members ("bounds_given", and a "bounds_note" for the default) and
- * gives the box as its "bbox". Timings come last, as a foreign member.
+ * gives the box as its "bbox". Timings come last, as a foreign member, and
+ * a newline ends the document.
  * Coordinates are written exactly as computed (shortest round trip), not
  * rounded to RFC 7946's suggested 6 digits: the planar coordinates need not
  * be degrees. O(output). */
@@ -71,5 +72,5 @@ int api__write_geojson(const api_request *r, const api_result *res,
     if (API_BUF_LIT(out, "],\"timings\":")) return -1;
     api__finish_timings(t, t0);
     if (api__put_timings(out, t)) return -1;
-    return API_BUF_LIT(out, "}");
+    return API_BUF_LIT(out, "}\n");
 }

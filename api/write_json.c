@@ -19,6 +19,7 @@
  *    "trace": {"steps": [{"kind": "order", ...}, ...]},  write_trace.c
  *    "timings": {...}}
  *
+ * followed by a newline, as every text document of the service.
  * Every site number is an INPUT index (the first occurrence of a duplicated
  * point), so it indexes the caller's own array and "sites". Cells and
  * clipped cells come one per distinct site, in increasing input index.
@@ -265,5 +266,5 @@ int api__write_json(const api_request *r, const api_result *res,
     if (API_BUF_LIT(out, ",\"timings\":")) return -1;
     api__finish_timings(t, t0);
     if (api__put_timings(out, t)) return -1;
-    return API_BUF_LIT(out, "}");
+    return API_BUF_LIT(out, "}\n");
 }

@@ -223,6 +223,169 @@ static void big_diffs(big *out, const double *v, int k) {
     }
 }
 
+/* ---- Small integers ----------------------------------------------------------
+ *
+ * Lattice input (pixels, grids, integer coordinates) makes exact ties the
+ * rule, not the exception: circle events of different triangles with the
+ * same top, sites exactly at the top of a circle. When the differences
+ * the test needs are integers times one power of two that fit in a few
+ * dozen bits, 64- and 128-bit integer arithmetic decides them at a few
+ * nanoseconds instead of the microsecond the limb arrays cost. */
+
+/* 128-bit integers (a GCC and Clang extension, on every 64-bit target
+ * they support). */
+__extension__ typedef __int128 i128;
+__extension__ typedef unsigned __int128 u128;
+
+/* The exponent of the lowest set bit of the nonzero normal double d, or
+ * INT32_MIN for a subnormal (not handled here). */
+static inline int low_bit(double d) {
+    uint64_t u;
+    memcpy(&u, &d, sizeof u);
+    int ex = (int)((u >> 52) & 0x7ff);
+    if (ex == 0) return INT32_MIN;
+    uint64_t m = (u & 0xfffffffffffffull) | 0x10000000000000ull;
+    return ex - 1075 + __builtin_ctzll(m);
+}
+
+/* out[i] = (v[i] - v[0]) / 2^E for the k points (x, y pairs) of v,
+ * i = 1 .. k - 1, as 2(k - 1) integers, E the lowest bit among the
+ * differences; every difference must be exact in doubles and, in units of
+ * 2^E, below 2^bits[i - 1] in magnitude. Returns 0 if not. */
+static int small_diffs(const double *v, int k, const int *bits,
+                       int64_t *out) {
+    double d[10];
+    int e = INT32_MAX;
+    assert(k <= 6);
+    for (int i = 1; i < k; i++) {
+        for (int j = 0; j < 2; j++) {
+            double a = v[2 * i + j], b = v[j], x = a - b;
+            /* exact iff the two-sum error is zero */
+            double bv = a - x, av = x + bv;
+            if ((a - av) + (bv - b) != 0) return 0;
+            d[2 * (i - 1) + j] = x;
+            if (x != 0) {
+                int lb = low_bit(x);
+                if (lb == INT32_MIN) return 0;
+                if (lb < e) e = lb;
+            }
+        }
+    }
+    if (e > 1022 || e < -1022) return 0;
+    /* 2^-e from its bits (ldexp is a call, and slow) */
+    uint64_t ub = (uint64_t)(1023 - e) << 52;
+    double scale;
+    memcpy(&scale, &ub, sizeof scale);
+    for (int i = 0; i < 2 * (k - 1); i++) {
+        double x = d[i] * scale; /* exact: an integer times a power of 2 */
+        double lim = (double)((int64_t)1 << bits[i / 2]);
+        if (!(fabs(x) < lim)) return 0;
+        out[i] = (int64_t)x;
+    }
+    return 1;
+}
+
+/* Integer square root of v < 2^104 if v is a perfect square: 1 with *r,
+ * else 0. */
+static int exact_sqrt(u128 v, uint64_t *r) {
+    uint64_t s = (uint64_t)sqrt((double)v);
+    /* the double is within a few units of the root: settle it */
+    while (s > 0 && (u128)s * s > v) s--;
+    while ((u128)(s + 1) * (s + 1) <= v) s++;
+    *r = s;
+    return (u128)s * s == v;
+}
+
+/* The circle through a, b + a, c + a for integer b, c below 2^11: D,
+ * N = (Nx, Ny) and R as in "Circles exactly" below; |D| < 2^23,
+ * |N| < 2^35, R < 2^71. */
+typedef struct small_circle {
+    int64_t d, nx, ny;
+    u128 r;
+} small_circle;
+
+static void small_circle_of(small_circle *c, int64_t bx, int64_t by,
+                            int64_t cx, int64_t cy) {
+    int64_t b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    c->d = bx * cy - by * cx;
+    c->nx = cy * b2 - by * c2;
+    c->ny = bx * c2 - cx * b2;
+    c->r = (u128)((i128)c->nx * c->nx) +
+           (u128)((i128)c->ny * c->ny);
+}
+
+static inline int sign128(i128 v) {
+    return (v > 0) - (v < 0);
+}
+
+int vor__fortune_site_first_small(const double *s, const double *a,
+                                  const double *b, const double *c) {
+    const double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], s[0], s[1]};
+    static const int bits[3] = {11, 11, 30};
+    int64_t q[6];
+    if (!small_diffs(v, 4, bits, q)) return -1;
+    small_circle ci;
+    small_circle_of(&ci, q[0], q[1], q[2], q[3]);
+    if (ci.d <= 0) return -1; /* not an event (not reached) */
+    /* w = 2D sy - Ny; the site is lower iff w < sqrt(R) */
+    i128 w = (i128)(2 * ci.d) * q[5] - ci.ny;
+    if (w < 0) return 1;
+    u128 w2 = (u128)(w * w);
+    if (w2 != ci.r) return w2 < ci.r;
+    /* same y: the site comes first iff it is left of the centre */
+    return (i128)(2 * ci.d) * q[4] < (i128)ci.nx;
+}
+
+int vor__fortune_circle_cmp_small(const double *a1, const double *b1,
+                                  const double *c1, const double *a2,
+                                  const double *b2, const double *c2,
+                                  int *res) {
+    const double v[12] = {a1[0], a1[1], b1[0], b1[1], c1[0], c1[1],
+                          a2[0], a2[1], b2[0], b2[1], c2[0], c2[1]};
+    /* b1, c1 local; a2 may be far; b2, c2 within 2^11 of a2 */
+    static const int bits[5] = {11, 11, 40, 40, 40};
+    int64_t q[10];
+    if (!small_diffs(v, 6, bits, q)) return 0;
+    int64_t u[4] = {q[6] - q[4], q[7] - q[5], q[8] - q[4], q[9] - q[5]};
+    for (int i = 0; i < 4; i++)
+        if (u[i] <= -2048 || u[i] >= 2048) return 0;
+    small_circle e1, e2;
+    small_circle_of(&e1, q[0], q[1], q[2], q[3]);
+    small_circle_of(&e2, u[0], u[1], u[2], u[3]);
+    if (e1.d <= 0 || e2.d <= 0) return 0;
+    /* 2 D1 D2 (y2 - y1) for the centres, relative to a1:
+     * cy1 - cy2 = (D2 Ny1 - D1 Ny2 - 2 D1 D2 oy) / (2 D1 D2) */
+    i128 dprod = (i128)e1.d * e2.d;
+    i128 dy = (i128)e2.d * e1.ny - (i128)e1.d * e2.ny -
+                  2 * dprod * q[5];
+    /* r1^2 - r2^2 = (R1 D2^2 - R2 D1^2) / (4 D1^2 D2^2) */
+    u128 r1 = e1.r * (u128)(e2.d * e2.d);
+    u128 r2 = e2.r * (u128)(e1.d * e1.d);
+    int sy = sign128(dy), sr = (r1 > r2) - (r1 < r2);
+    /* top = cy + r: equal signs (or one zero) decide; opposite signs
+     * need the square roots, which a lattice often has as integers
+     * (Pythagorean radii: circles of different sizes touching one row) */
+    int top = sy != 0 ? sy : sr;
+    if (sy != 0 && sr != 0 && sy != sr) {
+        uint64_t s1, s2;
+        if (!exact_sqrt(e1.r, &s1) || !exact_sqrt(e2.r, &s2)) return 0;
+        /* 2 D1 D2 (top1 - top2) = D2 (Ny1 + s1) - D1 (Ny2 + s2)
+         *                         - 2 D1 D2 oy */
+        i128 dt = (i128)e2.d * ((i128)e1.ny + (i128)s1) -
+                  (i128)e1.d * ((i128)e2.ny + (i128)s2) - 2 * dprod * q[5];
+        top = sign128(dt);
+    }
+    if (top != 0) {
+        *res = top < 0 ? -1 : 1;
+        return 1;
+    }
+    /* the same top: by the centres' x */
+    i128 dx = (i128)e2.d * e1.nx - (i128)e1.d * e2.nx -
+                  2 * dprod * q[4];
+    *res = sign128(dx);
+    return 1;
+}
+
 /* ---- Breakpoint polynomial F --------------------------------------------- */
 
 /* Largest magnitude of four values (nan propagates as "not <= DBL_MAX"). */
@@ -268,8 +431,24 @@ static int bp_poly_exact(const double *a, const double *b, const double *p) {
     return -big_cmp(&t1, &t2);
 }
 
+/* Sign of F on a small lattice (differences from p exact and, in units
+ * of their lowest bit, below 2^24: F has at most 75 bits), or -2 when the
+ * input is not one. */
+static int bp_poly_small(const double *a, const double *b, const double *p) {
+    const double v[6] = {p[0], p[1], a[0], a[1], b[0], b[1]};
+    static const int bits[2] = {24, 24};
+    int64_t q[4];
+    if (!small_diffs(v, 3, bits, q)) return -2;
+    /* with d = a - p = -u and e = b - p = -v, F = -(|d|^2 ey - |e|^2 dy) */
+    i128 t1 = (i128)(q[0] * q[0] + q[1] * q[1]) * q[3];
+    i128 t2 = (i128)(q[2] * q[2] + q[3] * q[3]) * q[1];
+    return sign128(t2 - t1);
+}
+
 int vor__fortune_bp_poly_slow(const double *a, const double *b,
                               const double *p) {
+    int sm = bp_poly_small(a, b, p);
+    if (sm != -2) return sm;
     double ux = p[0] - a[0], uy = p[1] - a[1];
     double vx = p[0] - b[0], vy = p[1] - b[1];
     double m = max4(ux, uy, vx, vy);
@@ -656,144 +835,6 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
     /* same y: compare x with the centre's */
     big_mul(&t1, &twod, sx);
     return big_cmp(&t1, &ci.nx) < 0;
-}
-
-/* ---- Small integers ----------------------------------------------------------
- *
- * Lattice input (pixels, grids, integer coordinates) makes exact ties the
- * rule, not the exception: circle events of different triangles with the
- * same top, sites exactly at the top of a circle. When the differences
- * the test needs are integers times one power of two that fit in a few
- * dozen bits, 64- and 128-bit integer arithmetic decides them at a few
- * nanoseconds instead of the microsecond the limb arrays cost. */
-
-/* 128-bit integers (a GCC and Clang extension, on every 64-bit target
- * they support). */
-__extension__ typedef __int128 i128;
-__extension__ typedef unsigned __int128 u128;
-
-/* The exponent of the lowest set bit of the nonzero normal double d, or
- * INT32_MIN for a subnormal (not handled here). */
-static inline int low_bit(double d) {
-    uint64_t u;
-    memcpy(&u, &d, sizeof u);
-    int ex = (int)((u >> 52) & 0x7ff);
-    if (ex == 0) return INT32_MIN;
-    uint64_t m = (u & 0xfffffffffffffull) | 0x10000000000000ull;
-    return ex - 1075 + __builtin_ctzll(m);
-}
-
-/* out[i] = (v[i] - v[0]) / 2^E for the k points (x, y pairs) of v,
- * i = 1 .. k - 1, as 2(k - 1) integers, E the lowest bit among the
- * differences; every difference must be exact in doubles and, in units of
- * 2^E, below 2^bits[i - 1] in magnitude. Returns 0 if not. */
-static int small_diffs(const double *v, int k, const int *bits,
-                       int64_t *out) {
-    double d[10];
-    int e = INT32_MAX;
-    assert(k <= 6);
-    for (int i = 1; i < k; i++) {
-        for (int j = 0; j < 2; j++) {
-            double a = v[2 * i + j], b = v[j], x = a - b;
-            /* exact iff the two-sum error is zero */
-            double bv = a - x, av = x + bv;
-            if ((a - av) + (bv - b) != 0) return 0;
-            d[2 * (i - 1) + j] = x;
-            if (x != 0) {
-                int lb = low_bit(x);
-                if (lb == INT32_MIN) return 0;
-                if (lb < e) e = lb;
-            }
-        }
-    }
-    for (int i = 0; i < 2 * (k - 1); i++) {
-        double x = ldexp(d[i], -e); /* exact: an integer below 2^63 */
-        double lim = ldexp(1.0, bits[i / 2]);
-        if (!(fabs(x) < lim)) return 0;
-        out[i] = (int64_t)x;
-    }
-    return 1;
-}
-
-/* The circle through a, b + a, c + a for integer b, c below 2^11: D,
- * N = (Nx, Ny) and R as in "Circles exactly" below; |D| < 2^23,
- * |N| < 2^35, R < 2^71. */
-typedef struct small_circle {
-    int64_t d, nx, ny;
-    u128 r;
-} small_circle;
-
-static void small_circle_of(small_circle *c, int64_t bx, int64_t by,
-                            int64_t cx, int64_t cy) {
-    int64_t b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-    c->d = bx * cy - by * cx;
-    c->nx = cy * b2 - by * c2;
-    c->ny = bx * c2 - cx * b2;
-    c->r = (u128)((i128)c->nx * c->nx) +
-           (u128)((i128)c->ny * c->ny);
-}
-
-static inline int sign128(i128 v) {
-    return (v > 0) - (v < 0);
-}
-
-int vor__fortune_site_first_small(const double *s, const double *a,
-                                  const double *b, const double *c) {
-    const double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], s[0], s[1]};
-    static const int bits[3] = {11, 11, 30};
-    int64_t q[6];
-    if (!small_diffs(v, 4, bits, q)) return -1;
-    small_circle ci;
-    small_circle_of(&ci, q[0], q[1], q[2], q[3]);
-    if (ci.d <= 0) return -1; /* not an event (not reached) */
-    /* w = 2D sy - Ny; the site is lower iff w < sqrt(R) */
-    i128 w = (i128)(2 * ci.d) * q[5] - ci.ny;
-    if (w < 0) return 1;
-    u128 w2 = (u128)(w * w);
-    if (w2 != ci.r) return w2 < ci.r;
-    /* same y: the site comes first iff it is left of the centre */
-    return (i128)(2 * ci.d) * q[4] < (i128)ci.nx;
-}
-
-int vor__fortune_circle_cmp_small(const double *a1, const double *b1,
-                                  const double *c1, const double *a2,
-                                  const double *b2, const double *c2,
-                                  int *res) {
-    const double v[12] = {a1[0], a1[1], b1[0], b1[1], c1[0], c1[1],
-                          a2[0], a2[1], b2[0], b2[1], c2[0], c2[1]};
-    /* b1, c1 local; a2 may be far; b2, c2 within 2^11 of a2 */
-    static const int bits[5] = {11, 11, 40, 40, 40};
-    int64_t q[10];
-    if (!small_diffs(v, 6, bits, q)) return 0;
-    int64_t u[4] = {q[6] - q[4], q[7] - q[5], q[8] - q[4], q[9] - q[5]};
-    for (int i = 0; i < 4; i++)
-        if (u[i] <= -2048 || u[i] >= 2048) return 0;
-    small_circle e1, e2;
-    small_circle_of(&e1, q[0], q[1], q[2], q[3]);
-    small_circle_of(&e2, u[0], u[1], u[2], u[3]);
-    if (e1.d <= 0 || e2.d <= 0) return 0;
-    /* 2 D1 D2 (y2 - y1) for the centres, relative to a1:
-     * cy1 - cy2 = (D2 Ny1 - D1 Ny2 - 2 D1 D2 oy) / (2 D1 D2) */
-    i128 dprod = (i128)e1.d * e2.d;
-    i128 dy = (i128)e2.d * e1.ny - (i128)e1.d * e2.ny -
-                  2 * dprod * q[5];
-    /* r1^2 - r2^2 = (R1 D2^2 - R2 D1^2) / (4 D1^2 D2^2) */
-    u128 r1 = e1.r * (u128)(e2.d * e2.d);
-    u128 r2 = e2.r * (u128)(e1.d * e1.d);
-    int sy = sign128(dy), sr = (r1 > r2) - (r1 < r2);
-    /* top = cy + r: equal signs (or one zero) decide; opposite signs
-     * would need the square roots */
-    if (sy != 0 && sr != 0 && sy != sr) return 0;
-    int top = sy != 0 ? sy : sr;
-    if (top != 0) {
-        *res = top < 0 ? -1 : 1;
-        return 1;
-    }
-    /* the same top: by the centres' x */
-    i128 dx = (i128)e2.d * e1.nx - (i128)e1.d * e2.nx -
-                  2 * dprod * q[4];
-    *res = sign128(dx);
-    return 1;
 }
 
 /* Workspace of the circle comparison: degree 20 in the inputs, so up to

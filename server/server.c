@@ -225,7 +225,7 @@ static void problem_reply(reply *r, const api_problem *p,
         api_buf_clear(&b);
         static const char fallback[] =
             "{\"type\":\"/problems/unavailable\",\"title\":\"Service "
-            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}";
+            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}\n";
         r->status = 503;
         r->body = malloc(sizeof fallback);
         if (r->body != NULL) {
@@ -867,7 +867,8 @@ static char *dup_str(const char *s) {
 
 /* The inline path: a request with a small body is read here, on the
  * connection's thread, with a limit of cfg.inline_points points (a third
- * of that for /compare, which runs three algorithms). If it fits, it is
+ * of that for /compare, which runs three algorithms, and that again
+ * divided by its repeat count). If it fits, it is
  * computed and answered here too; if it holds or generates more points
  * (API_TOO_LARGE under the small limit only), it is left for the pool,
  * which reads it again with the full limit, so every answer is the one
@@ -907,6 +908,13 @@ static int run_inline(req *q, struct MHD_Connection *conn,
     if (c == API_TOO_LARGE && lim < s->cfg.max_points) {
         api_request_clear(&r);
         return 0; /* too many points to compute here: the pool's job */
+    }
+    /* A comparison runs every algorithm repeat times: the budget is for
+     * all of its runs. */
+    if (c == API_OK && in->compare &&
+        r.n * (size_t)api_compare_repeat(&r, r.n) > lim) {
+        api_request_clear(&r);
+        return 0;
     }
     if (c != API_OK)
         input_problem(&out, &p, instance, 0, parse_ms);
@@ -1162,12 +1170,12 @@ static enum MHD_Result on_complete(req *q, struct MHD_Connection *conn) {
     case SRV_ROUTE_ASSET:
         return handle_asset(q, conn, q->path);
     case SRV_ROUTE_HEALTHZ:
-        return handle_json_status(q, conn, "{\"status\":\"ok\"}");
+        return handle_json_status(q, conn, "{\"status\":\"ok\"}\n");
     case SRV_ROUTE_READYZ:
         if (atomic_load(&s->draining))
             return send_problem(q, conn, API_UNAVAILABLE, NULL, RETRY_AFTER_S,
                                 "shutting down: not taking new work");
-        return handle_json_status(q, conn, "{\"status\":\"ready\"}");
+        return handle_json_status(q, conn, "{\"status\":\"ready\"}\n");
     case SRV_ROUTE_METRICS:
         return handle_metrics(q, conn);
     case SRV_ROUTE_PROBLEM:

@@ -137,6 +137,7 @@ static void test_compare_agrees(void **state) {
         if (vt_make(i, &set) != 0) fail_msg("cannot make set %zu", i);
         size_t n = set.n > 3000 ? 3000 : set.n;
         api_request r = request_for(set.xy, n, VOR_FORTUNE, API_PART_DEFAULT, NULL);
+        r.repeat = 2; /* every run is checked against the first */
         api_compare c;
         api_problem p;
         api_compare_init(&c);
@@ -166,6 +167,180 @@ static void test_compare_agrees(void **state) {
         api_request_clear(&r);
         vt_set_free(&set);
     }
+}
+
+/* Milliseconds as the writers round them (to the microsecond). */
+static double ms_rounded(double v) { return round(v * 1000) / 1000; }
+
+/* The median of n values, computed independently of compute.c: sort a copy
+ * with qsort, take the middle (the mean of the middle two for even n). */
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+static double median_of(const double *v, int n) {
+    double w[API_REPEAT_MAX];
+    memcpy(w, v, (size_t)n * sizeof *w);
+    qsort(w, (size_t)n, sizeof *w, cmp_double);
+    return n % 2 ? w[n / 2] : (w[n / 2 - 1] + w[n / 2]) / 2;
+}
+
+/* Checks one spread entry {"median", "min", "max"} against the runs. */
+static void check_spread(json_t *spread, const char *phase, const double *v,
+                         int n, double timing) {
+    json_t *e = json_object_get(spread, phase);
+    if (!json_is_object(e)) fail_msg("no spread of %s", phase);
+    double med = json_number_value(json_object_get(e, "median"));
+    double lo = json_number_value(json_object_get(e, "min"));
+    double hi = json_number_value(json_object_get(e, "max"));
+    double want_lo = v[0], want_hi = v[0];
+    for (int i = 1; i < n; i++) {
+        if (v[i] < want_lo) want_lo = v[i];
+        if (v[i] > want_hi) want_hi = v[i];
+    }
+    if (!(lo <= med && med <= hi)) fail_msg("%s: median %g not in [%g, %g]", phase, med, lo, hi);
+    assert_true(lo == ms_rounded(want_lo));
+    assert_true(hi == ms_rounded(want_hi));
+    assert_true(med == ms_rounded(median_of(v, n)));
+    assert_true(med == ms_rounded(timing));
+}
+
+/* repeat: every available algorithm runs k times on the same sites; the
+ * timings are the medians of the runs, the document gives each run's
+ * compute ms in order and the spread of every phase, and the diagrams
+ * still agree. With bounds the runs clip too. */
+static void test_compare_repeat(void **state) {
+    (void)state;
+    vt_set set;
+    if (vt_make(0, &set) != 0) fail_msg("cannot make set 0");
+    size_t n = set.n > 2000 ? 2000 : set.n;
+    static const int ks[] = {1, 2, 4, 7};
+    for (size_t t = 0; t < 2 * sizeof ks / sizeof ks[0]; t++) {
+        int k = ks[t % 4], with_box = t >= 4;
+        double box[4] = {-10, -10, 10, 10};
+        api_request r = request_for(set.xy, n, VOR_FORTUNE, API_PART_DEFAULT,
+                                    with_box ? box : NULL);
+        r.repeat = k;
+        api_compare c;
+        api_problem p;
+        api_compare_init(&c);
+        if (api_compare_run(&r, &c, &p) != API_OK) fail_msg("%s: %s", set.name, p.detail);
+        assert_int_equal(c.repeat, k);
+        assert_int_equal(c.has_clip, with_box);
+        assert_non_null(c.sites);
+        int all = 1;
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            all &= available[a];
+            if (!available[a]) continue;
+            assert_int_equal(c.n_runs[a], k);
+            assert_null(c.res[a].sites); /* shared: c.sites */
+            /* The timings are the medians over the runs. */
+            double v[API_REPEAT_MAX];
+            for (int i = 0; i < k; i++) v[i] = c.runs[a][i][API_RUN_COMPUTE];
+            assert_true(c.res[a].t.compute_ms == median_of(v, k));
+            for (int i = 0; i < k; i++) {
+                const double *run = c.runs[a][i];
+                assert_true(run[API_RUN_COMPUTE] >= 0 && run[API_RUN_CLIP] >= 0);
+                assert_true(run[API_RUN_TOTAL] == c.t.prepare_ms +
+                                                      run[API_RUN_COMPUTE] +
+                                                      run[API_RUN_CLIP]);
+                if (!with_box) assert_true(run[API_RUN_CLIP] == 0);
+            }
+            assert_true(c.res[a].t.prepare_ms == c.t.prepare_ms);
+        }
+        if (all != c.agree) fail_msg("repeat %d: agree %d: %s", k, c.agree, c.disagreement);
+
+        api_buf out;
+        api_buf_init(&out);
+        assert_int_equal(api_write_compare(&r, &c, &out, &p), API_OK);
+        json_error_t err;
+        json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
+        if (j == NULL) fail_msg("compare document: %s", err.text);
+        assert_int_equal(json_integer_value(json_object_get(j, "repeat")), k);
+        json_t *algos = json_object_get(j, "algorithms");
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            if (!available[a]) continue;
+            json_t *e = json_array_get(algos, (size_t)a);
+            json_t *runs = json_object_get(e, "runs_ms");
+            assert_int_equal(json_array_size(runs), (size_t)k);
+            double v[API_RUN_PHASES][API_REPEAT_MAX];
+            for (int i = 0; i < k; i++) {
+                for (int ph = 0; ph < API_RUN_PHASES; ph++) v[ph][i] = c.runs[a][i][ph];
+                assert_true(json_number_value(json_array_get(runs, (size_t)i)) ==
+                            ms_rounded(c.runs[a][i][API_RUN_COMPUTE]));
+            }
+            json_t *spread = json_object_get(e, "spread");
+            json_t *tj = json_object_get(e, "timings");
+            rc_check_timings(tj);
+            check_spread(spread, "compute_ms", v[API_RUN_COMPUTE], k,
+                         json_number_value(json_object_get(tj, "compute_ms")));
+            check_spread(spread, "total_ms", v[API_RUN_TOTAL], k,
+                         json_number_value(json_object_get(tj, "total_ms")));
+            if (with_box) {
+                check_spread(spread, "clip_ms", v[API_RUN_CLIP], k,
+                             json_number_value(json_object_get(tj, "clip_ms")));
+            } else {
+                assert_null(json_object_get(spread, "clip_ms"));
+            }
+            assert_int_equal(json_object_size(spread), with_box ? 3 : 2);
+        }
+        json_decref(j);
+        api_buf_clear(&out);
+        api_compare_clear(&c);
+        api_request_clear(&r);
+    }
+    vt_set_free(&set);
+}
+
+/* Without a repeat the count follows the number of distinct sites;
+ * repeat times points is bounded; repeat belongs to comparisons only. */
+static void test_compare_repeat_default_and_limits(void **state) {
+    (void)state;
+    double xy[] = {0, 0, 1, 0, 0, 1, 1, 1, 0, 0};
+    api_request r = request_for(xy, 5, VOR_FORTUNE, API_PART_DEFAULT, NULL);
+    api_compare c;
+    api_problem p;
+    api_compare_init(&c);
+    assert_int_equal(api_compare_run(&r, &c, &p), API_OK);
+    assert_int_equal(c.repeat, 5);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        assert_int_equal(c.n_runs[a], available[a] ? 5 : 0);
+    }
+    api_compare_clear(&c);
+    api_request_clear(&r);
+
+    /* 50 x 200,001 points is over 10^7: refused before any work (the
+     * points are zeros, never looked at). */
+    size_t big = 200001;
+    api_request rb;
+    api_request_init(&rb);
+    rb.xy = calloc(2 * big, sizeof(double));
+    assert_non_null(rb.xy);
+    rb.n = big;
+    rb.repeat = 50;
+    api_compare_init(&c);
+    assert_int_equal(api_compare_run(&rb, &c, &p), API_INVALID);
+    if (strstr(p.detail, "repeat 50 with 200001 points: repeat times points must "
+                         "be at most 10000000, so at most 49 repeats here") == NULL) {
+        fail_msg("detail: %s", p.detail);
+    }
+    assert_null(c.sites);
+    assert_int_equal(c.n_runs[0], 0);
+    api_compare_clear(&c);
+    api_request_clear(&rb);
+
+    /* repeat on a single computation is refused, naming where it applies. */
+    r = request_for(xy, 5, VOR_FLIP, API_PART_DEFAULT, NULL);
+    r.repeat = 3;
+    api_result res;
+    api_result_init(&res);
+    assert_int_equal(api_compute(&r, &res, &p), API_INVALID);
+    if (strstr(p.detail, "repeat 3: repeat applies only to a comparison of the "
+                         "algorithms (POST /compare") == NULL) {
+        fail_msg("detail: %s", p.detail);
+    }
+    assert_null(res.diagram);
+    api_request_clear(&r);
 }
 
 /* A first difference is explained, in the terms of the canonical form. */
@@ -571,6 +746,8 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sets_round_trip),
         cmocka_unit_test(test_compare_agrees),
+        cmocka_unit_test(test_compare_repeat),
+        cmocka_unit_test(test_compare_repeat_default_and_limits),
         cmocka_unit_test(test_difference_explained),
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_small_inputs),

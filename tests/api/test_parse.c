@@ -169,6 +169,43 @@ static void test_json_generate(void **state) {
     api_request_clear(&o.r);
 }
 
+/* "repeat" (for /compare): an integer 1..50, an integral real too. */
+static void test_json_repeat(void **state) {
+    (void)state;
+    outcome o;
+    assert_int_equal(parse_json(&o, "{\"points\": [[0,0]], \"repeat\": 7}"), API_OK);
+    assert_int_equal(o.r.repeat, 7);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"repeat\": 5e1, \"points\": []}"), API_OK);
+    assert_int_equal(o.r.repeat, 50);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_json(&o, "{\"points\": [[0,0]]}"), API_OK);
+    assert_int_equal(o.r.repeat, 0); /* absent: the comparison's default */
+    api_request_clear(&o.r);
+    static const refusal cases[] = {
+        {"{\"points\": [], \"repeat\": 0}", API_INVALID, "/repeat", 0,
+         "repeat 0 is out of range; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": 51}", API_INVALID, "/repeat", 0,
+         "repeat 51 is out of range; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": -2}", API_INVALID, "/repeat", 0,
+         "repeat -2 is out of range"},
+        {"{\"points\": [], \"repeat\": 2.5}", API_INVALID, "/repeat", 0,
+         "repeat 2.5 is not an integer; give an integer from 1 to 50"},
+        {"{\"points\": [], \"repeat\": 1e300}", API_INVALID, "/repeat", 0,
+         "repeat 1e300 is out of range"},
+        {"{\"points\": [], \"repeat\": \"3\"}", API_INVALID, "/repeat", 0,
+         "repeat must be an integer from 1 to 50, got a string"},
+        {"{\"points\": [], \"repeat\": null}", API_INVALID, "/repeat", 0,
+         "got null"},
+        {"{\"points\": [], \"repeat\": 3, \"repeat\": 4}", API_MALFORMED,
+         "/repeat", 0, "duplicate key \"repeat\""},
+        {"{\"points\": [], \"repeats\": 3}", API_MALFORMED, "/repeats", 0,
+         "unknown key \"repeats\"; known: points, generate, algorithm, "
+         "bounds, include, format, repeat, trace"},
+    };
+    check_refusals(API_IN_JSON, cases, sizeof cases / sizeof cases[0], 1000);
+}
+
 static void test_json_refusals(void **state) {
     (void)state;
     static const refusal cases[] = {
@@ -226,7 +263,7 @@ static void test_json_refusals(void **state) {
         /* unknown keys: 400 naming the key */
         {"{\"points\": [], \"colour\": \"red\"}", API_MALFORMED, "/colour", 0,
          "unknown key \"colour\"; known: points, generate, algorithm, bounds, "
-         "include, format, trace"},
+         "include, format, repeat, trace"},
         {"{\"points\": [], \"trace\": true, \"trace\": false}", API_MALFORMED,
          "/trace", 0, "duplicate key \"trace\""},
         /* trace is a boolean */
@@ -451,6 +488,49 @@ static void test_text_accepted(void **state) {
     assert_int_equal(parse_kind(&o, API_IN_AUTO, "{\"x\":1}", 7, 10), API_MALFORMED);
     assert_non_null(strstr(o.p.detail, "unknown key \"x\""));
     api_request_clear(&o.r);
+    assert_int_equal(parse_kind(&o, API_IN_AUTO, " \n", 2, 10), API_MALFORMED);
+    assert_non_null(strstr(o.p.detail, "empty body"));
+    api_request_clear(&o.r);
+}
+
+/* text/plain (API_IN_PLAIN): what a browser's fetch() sends for a JSON
+ * string without a Content-Type. JSON when it starts with '{' or '['
+ * after white space and a byte order mark, text otherwise; empty is text
+ * (no points), as for text/csv. */
+static void test_plain_sniffed(void **state) {
+    (void)state;
+    outcome o;
+    static const char *const json_bodies[] = {
+        "{\"points\": [[0,0],[1,0],[0,1]], \"algorithm\": \"flip\"}",
+        "\xef\xbb\xbf {\"points\": [[0,0],[1,0],[0,1]], \"algorithm\": \"flip\"}",
+        "\r\n\t [[0,0],[1,0],[0,1]]",
+    };
+    for (size_t i = 0; i < 3; i++) {
+        const char *b = json_bodies[i];
+        if (parse_kind(&o, API_IN_PLAIN, b, strlen(b), 10) != API_OK) {
+            fail_msg("%s: %s", b, o.p.detail);
+        }
+        assert_int_equal(o.r.n, 3);
+        assert_true(o.r.xy[2] == 1 && o.r.xy[5] == 1);
+        assert_int_equal(o.r.algorithm, i < 2 ? VOR_FLIP : VOR_FORTUNE);
+        api_request_clear(&o.r);
+    }
+    /* Errors are JSON's, with a pointer, not a text line's. */
+    const char *bad = "{\"points\": [[0,0],[1,\"x\"]]}";
+    assert_int_equal(parse_kind(&o, API_IN_PLAIN, bad, strlen(bad), 10), API_INVALID);
+    assert_string_equal(o.p.pointer, "/points/1/1");
+    assert_int_equal(o.p.line, 0);
+    api_request_clear(&o.r);
+    /* Text stays text. */
+    assert_int_equal(parse_kind(&o, API_IN_PLAIN, "x y\n1 2\n3 4\n", 12, 10), API_OK);
+    assert_int_equal(o.r.n, 2);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_kind(&o, API_IN_PLAIN, "1 2\n{3 4\n", 9, 10), API_MALFORMED);
+    assert_int_equal(o.p.line, 2);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_kind(&o, API_IN_PLAIN, "  \n", 3, 10), API_OK);
+    assert_int_equal(o.r.n, 0);
+    api_request_clear(&o.r);
 }
 
 static void test_text_refusals(void **state) {
@@ -589,7 +669,7 @@ static void test_mutations(void **state) {
         }
         char *body = malloc(len ? len : 1);
         memcpy(body, buf, len);
-        for (int k = API_IN_JSON; k <= API_IN_AUTO; k++) {
+        for (int k = API_IN_JSON; k <= API_IN_PLAIN; k++) {
             outcome o;
             api_code c = parse_kind(&o, (api_input)k, body, len, 100);
             if (c != API_OK && c != API_MALFORMED && c != API_INVALID &&
@@ -607,11 +687,13 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_json_accepted),
         cmocka_unit_test(test_json_generate),
+        cmocka_unit_test(test_json_repeat),
         cmocka_unit_test(test_json_refusals),
         cmocka_unit_test(test_json_too_many),
         cmocka_unit_test(test_json_not_terminated),
         cmocka_unit_test(test_json_random_round_trip),
         cmocka_unit_test(test_text_accepted),
+        cmocka_unit_test(test_plain_sniffed),
         cmocka_unit_test(test_text_refusals),
         cmocka_unit_test(test_binary),
         cmocka_unit_test(test_reuse),

@@ -79,9 +79,20 @@ static void test_options_refused(void **state) {
         {"bounds", "0,0,nan,1", API_INVALID, "\"nan\" is not a finite number"},
         {"bounds", "2,0,1,1", API_INVALID, "xmin 2 must be less than xmax 1"},
         {"bounds", "0,1,1,1", API_INVALID, "ymin 1 must be less than ymax 1"},
+        {"repeat", "0", API_INVALID,
+         "repeat 0 is out of range; give an integer from 1 to 50"},
+        {"repeat", "51", API_INVALID, "repeat 51 is out of range"},
+        {"repeat", "-1", API_INVALID, "repeat -1 is out of range"},
+        {"repeat", "3.5", API_INVALID,
+         "repeat 3.5 is not an integer; give an integer from 1 to 50"},
+        {"repeat", "three", API_INVALID,
+         "repeat \"three\" is not a number; give an integer from 1 to 50"},
+        {"repeat", "", API_INVALID, "repeat \"\" is not a number"},
+        {"repeat", "5x", API_INVALID, "repeat \"5x\" is not a number"},
+        {"repeat", "nan", API_INVALID, "repeat \"nan\" is not a number"},
         {"colour", "red", API_MALFORMED,
-         "unknown option \"colour\"; known: algorithm, bounds, format, include, "
-         "trace"},
+         "unknown option \"colour\"; known: algorithm, bounds, format, "
+         "include, repeat, trace"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         api_request r;
@@ -94,8 +105,35 @@ static void test_options_refused(void **state) {
                      cases[i].value, (int)c, p.detail);
         }
         assert_int_equal(r.has_bounds, 0);
+        assert_int_equal(r.repeat, 0);
         api_request_clear(&r);
     }
+}
+
+static void test_repeat_option_and_default(void **state) {
+    (void)state;
+    api_request r;
+    api_problem p;
+    api_request_init(&r);
+    /* Absent: 5 up to 20,000 sites, 3 up to 200,000, then 1. */
+    static const size_t sites[] = {0, 1, 20000, 20001, 200000, 200001, 1000000};
+    static const int want[] = {5, 5, 5, 3, 3, 1, 1};
+    for (size_t i = 0; i < sizeof sites / sizeof sites[0]; i++) {
+        assert_int_equal(api_compare_repeat(&r, sites[i]), want[i]);
+    }
+    assert_int_equal(api_request_option(&r, "repeat", "1", &p), API_OK);
+    assert_int_equal(r.repeat, 1);
+    assert_int_equal(api_request_option(&r, "repeat", "50", &p), API_OK);
+    assert_int_equal(r.repeat, 50);
+    assert_int_equal(api_request_option(&r, "repeat", "1e1", &p), API_OK);
+    assert_int_equal(r.repeat, 10);
+    /* Given, it wins over the default at any size. */
+    assert_int_equal(api_compare_repeat(&r, 5), 10);
+    assert_int_equal(api_compare_repeat(&r, 900000), 10);
+    /* A refused value leaves the last good one. */
+    assert_int_equal(api_request_option(&r, "repeat", "51", &p), API_INVALID);
+    assert_int_equal(r.repeat, 10);
+    api_request_clear(&r);
 }
 
 static void test_content_types(void **state) {
@@ -112,7 +150,9 @@ static void test_content_types(void **state) {
         {"text/json", API_IN_JSON},
         {"application/vnd.points+json", API_IN_JSON},
         {"text/csv", API_IN_TEXT},
-        {" text/plain ;charset=us-ascii", API_IN_TEXT},
+        {" text/plain ;charset=us-ascii", API_IN_PLAIN},
+        {"text/plain;charset=UTF-8", API_IN_PLAIN},
+        {"TEXT/PLAIN", API_IN_PLAIN},
         {"text/tab-separated-values", API_IN_TEXT},
         {"application/octet-stream", API_IN_BINARY},
     };
@@ -191,6 +231,7 @@ static void test_problem_json(void **state) {
     api_buf_init(&b);
     api_write_problem(&p, "/voronoi", &b);
     assert_false(b.oom);
+    assert_true(b.len > 2 && memcmp(b.data + b.len - 2, "}\n", 2) == 0);
     json_error_t err;
     json_t *j = json_loadb(b.data, b.len, 0, &err);
     if (j == NULL) fail_msg("problem is not JSON: %s: %s", err.text, b.data);
@@ -262,6 +303,7 @@ int main(void) {
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_options_accepted),
         cmocka_unit_test(test_options_refused),
+        cmocka_unit_test(test_repeat_option_and_default),
         cmocka_unit_test(test_content_types),
         cmocka_unit_test(test_accept),
         cmocka_unit_test(test_problem_json),

@@ -150,7 +150,45 @@ static void test_json_all_parts(void **state) {
                                      "\"bounds_given\":true,\"edges\":[[1,1,1,-1]"));
     assert_non_null(strstr(out.data, "\"parse_ms\":1.25,\"prepare_ms\":0.5,"
                                      "\"compute_ms\":2,"));
-    assert_int_equal(out.data[out.len - 1], '}');
+    assert_int_equal(out.data[out.len - 2], '}');
+    assert_int_equal(out.data[out.len - 1], '\n');
+    api_buf_clear(&out);
+}
+
+/* Every text document ends with exactly one newline (a shell prompt then
+ * starts on its own line, and documents concatenate line by line); the
+ * binary one ends with its timings. */
+static void test_trailing_newline(void **state) {
+    (void)state;
+    api_result res = tri_result();
+    static const char *const ends[] = {
+        [API_FMT_JSON] = "}}\n", [API_FMT_GEOJSON] = "}}\n",
+        [API_FMT_SVG] = "</svg>\n", [API_FMT_TIMINGS] = "}\n"};
+    for (int f = API_FMT_JSON; f <= API_FMT_TIMINGS; f++) {
+        api_request r = request((api_format)f, API_PART_ALL, 1);
+        api_buf out;
+        write_ok(&r, &res, &out);
+        if (f == API_FMT_BINARY) {
+            assert_int_equal(out.len % 8, 0); /* f64 timings, no newline */
+        } else {
+            size_t n = strlen(ends[f]);
+            if (out.len < n + 1 || memcmp(out.data + out.len - n, ends[f], n) != 0 ||
+                out.data[out.len - 2] == '\n') {
+                fail_msg("format %d ends with \"%s\"", f,
+                         out.data + (out.len > 12 ? out.len - 12 : 0));
+            }
+        }
+        api_buf_clear(&out);
+    }
+    api_compare c;
+    api_compare_init(&c);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) c.res[a] = tri_result();
+    api_request r = request(API_FMT_JSON, API_PART_DEFAULT, 0);
+    api_buf out;
+    api_problem p;
+    api_buf_init(&out);
+    assert_int_equal(api_write_compare(&r, &c, &out, &p), API_OK);
+    assert_true(out.len > 3 && memcmp(out.data + out.len - 3, "}}\n", 3) == 0);
     api_buf_clear(&out);
 }
 
@@ -275,9 +313,20 @@ static void test_timings_only(void **state) {
     res.t.total_ms = 100; /* the caller's wall clock so far wins over the sum */
     assert_int_equal(api_write_result(&r, &res, &res.t, &out, &p), API_OK);
     json_error_t err;
-    json_t *j = json_loadb(out.data, out.len, 0, &err);
+    json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
     assert_non_null(j);
-    rc_check_timings(j);
+    /* Labelled: the algorithm and the sizes first, then the timings. */
+    assert_memory_equal(out.data, "{\"algorithm\":\"", 14);
+    assert_string_equal(json_string_value(json_object_get(j, "algorithm")),
+                        vor_algorithm_name(res.algorithm));
+    assert_int_equal(json_integer_value(json_object_get(j, "n_input")), 4);
+    assert_int_equal(json_integer_value(json_object_get(j, "n_sites")), 3);
+    json_t *t = json_deep_copy(j);
+    json_object_del(t, "algorithm");
+    json_object_del(t, "n_input");
+    json_object_del(t, "n_sites");
+    rc_check_timings(t);
+    json_decref(t);
     assert_true(json_number_value(json_object_get(j, "total_ms")) >= 100);
     assert_true(res.t.total_ms >= 100 && res.t.total_ms == 100 + res.t.serialize_ms);
     json_decref(j);
@@ -296,11 +345,14 @@ static void test_timings_with_counts(void **state) {
     json_t *j = json_loadb(out.data, out.len, JSON_REJECT_DUPLICATES, &err);
     if (j == NULL) fail_msg("not JSON: %s: %s", err.text, out.data);
     rc_check_counts(json_object_get(j, "counts"), &res.counts, VOR_BOWYER_WATSON);
-    assert_int_equal(json_object_size(j), 8);
+    assert_int_equal(json_object_size(j), 11); /* labels, timings, counts */
     assert_int_equal(json_integer_value(json_object_get(json_object_get(j, "counts"),
                                                         "order_keys")),
                      (json_int_t)1 << 40);
     json_object_del(j, "counts");
+    json_object_del(j, "algorithm");
+    json_object_del(j, "n_input");
+    json_object_del(j, "n_sites");
     rc_check_timings(j);
     json_decref(j);
     api_buf_clear(&out);
@@ -540,6 +592,17 @@ static void test_compare_document(void **state) {
         c.res[a].algorithm = (vor_algorithm)a;
     }
     c.status[VOR_FORTUNE] = VOR_EUNAVAILABLE;
+    /* Three runs each of the other two, given by hand: compute, clip, total. */
+    c.repeat = 3;
+    c.has_clip = 1;
+    static const double runs[3][3] = {{2.5, 0.25, 3}, {1.25, 0.5, 2}, {4, 0.125, 4.5}};
+    for (int a = VOR_BOWYER_WATSON; a < VOR_ALGORITHM_COUNT; a++) {
+        c.n_runs[a] = 3;
+        memcpy(c.runs[a], runs, sizeof runs);
+        c.res[a].t.compute_ms = 2.5;
+        c.res[a].t.clip_ms = 0.25;
+        c.res[a].t.total_ms = 3;
+    }
     c.agree = 0;
     strcpy(c.disagreement, "fortune: algorithm not available");
     c.t.parse_ms = 3;
@@ -562,12 +625,34 @@ static void test_compare_document(void **state) {
     assert_string_equal(json_string_value(json_object_get(f, "algorithm")), "fortune");
     assert_string_equal(json_string_value(json_object_get(f, "status")), "not-implemented");
     assert_null(json_object_get(f, "n_edges"));
+    assert_null(json_object_get(f, "spread"));
+    assert_null(json_object_get(f, "runs_ms"));
+    assert_int_equal(json_integer_value(json_object_get(j, "repeat")), 3);
     json_t *b = json_array_get(algos, 1);
     assert_string_equal(json_string_value(json_object_get(b, "algorithm")), "bowyer-watson");
     assert_string_equal(json_string_value(json_object_get(b, "status")), "ok");
     assert_int_equal(json_integer_value(json_object_get(b, "n_edges")), 3);
     assert_int_equal(json_integer_value(json_object_get(b, "n_vertices")), 1);
     rc_check_timings(json_object_get(b, "timings"));
+    json_t *runs_ms = json_object_get(b, "runs_ms");
+    assert_int_equal(json_array_size(runs_ms), 3);
+    assert_true(json_number_value(json_array_get(runs_ms, 0)) == 2.5);
+    assert_true(json_number_value(json_array_get(runs_ms, 1)) == 1.25);
+    assert_true(json_number_value(json_array_get(runs_ms, 2)) == 4);
+    json_t *spread = json_object_get(b, "spread");
+    static const struct {
+        const char *phase;
+        double median, min, max;
+    } want[] = {{"compute_ms", 2.5, 1.25, 4}, {"clip_ms", 0.25, 0.125, 0.5},
+                {"total_ms", 3, 2, 4.5}};
+    assert_int_equal(json_object_size(spread), 3);
+    for (int k = 0; k < 3; k++) {
+        json_t *e = json_object_get(spread, want[k].phase);
+        assert_int_equal(json_object_size(e), 3);
+        assert_true(json_number_value(json_object_get(e, "median")) == want[k].median);
+        assert_true(json_number_value(json_object_get(e, "min")) == want[k].min);
+        assert_true(json_number_value(json_object_get(e, "max")) == want[k].max);
+    }
     for (int a = 1; a < VOR_ALGORITHM_COUNT; a++)
         rc_check_counts(json_object_get(json_array_get(algos, (size_t)a), "counts"),
                         &c.res[a].counts, (vor_algorithm)a);
@@ -614,7 +699,8 @@ static void test_timings_digits(void **state) {
         api_problem p;
         api_buf_init(&b);
         assert_int_equal(api_write_result(&r, &res, &t, &b, &p), API_OK);
-        const char *at = b.data;
+        const char *at = strstr(b.data, "\"queue_ms\"");
+        assert_non_null(at);
         for (int k = 0; k < 5; k++) {
             char want[API_NUM_MAXLEN + 1];
             size_t n = api_num_format(round(v[k] * 1000) / 1000, want);
@@ -645,6 +731,7 @@ int main(void) {
         cmocka_unit_test(test_timings_digits),
         cmocka_unit_test(test_out_of_memory),
         cmocka_unit_test(test_compare_document),
+        cmocka_unit_test(test_trailing_newline),
     };
     return cmocka_run_group_tests_name("api/write", tests, NULL, NULL);
 }

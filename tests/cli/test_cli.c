@@ -3,7 +3,8 @@
  * The binary's path comes from VOR_CLI (set by `make unit`). Inputs are
  * written to a fresh temporary directory; the command runs through
  * posix_spawn with stdin, stdout and stderr redirected to files, and its
- * exit status, output (read back with jansson) and messages are checked. */
+ * exit status, output (read back with jansson) and messages are checked.
+ * Also the command line `make run` starts the service with (make -n). */
 #include <errno.h>
 #include <fcntl.h>
 #include <jansson.h>
@@ -136,7 +137,7 @@ static int teardown(void **state) {
     if (dir[0]) {
         static const char *const names[] = {"stdout", "stderr", "p.csv", "p.json",
                                             "p.bin", "odd.bin", "bad.csv", "bad.json",
-                                            "flip.json", "p.txt", "noext"};
+                                            "flip.json", "p.txt", "noext", "rep.json"};
         for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
             char path[512];
             snprintf(path, sizeof path, "%s/%s", dir, names[i]);
@@ -275,7 +276,10 @@ static void test_generate_and_formats(void **state) {
     run r = RUN(NULL, "--generate", "grid:16", "--format", "timings", "-a", "flip");
     expect_status(&r, 0);
     json_t *j = json_out(&r);
-    assert_int_equal(json_object_size(j), 7);
+    assert_int_equal(json_object_size(j), 10); /* 3 labels, 7 timings */
+    assert_string_equal(json_string_value(json_object_get(j, "algorithm")), "flip");
+    assert_int_equal(jint(j, "n_input"), 16);
+    assert_int_equal(jint(j, "n_sites"), 16);
     assert_true(json_is_number(json_object_get(j, "compute_ms")));
     assert_true(json_is_number(json_object_get(j, "total_ms")));
     json_decref(j);
@@ -324,6 +328,69 @@ static void test_generate_and_formats(void **state) {
     run_free(&r);
 }
 
+/* Text output ends with exactly one newline; binary output with none. */
+static void test_trailing_newline(void **state) {
+    (void)state;
+    NEED_CLI();
+    static const char *const formats[] = {"json", "geojson", "svg", "timings", NULL};
+    for (int i = 0; i <= 4; i++) {
+        run r = formats[i] ? RUN(NULL, "-g", "uniform:10", "-f", formats[i])
+                           : RUN(NULL, "-c", "-r", "1", "-g", "uniform:10");
+        expect_status(&r, 0);
+        if (r.out_len < 2 || r.out[r.out_len - 1] != '\n' || r.out[r.out_len - 2] == '\n')
+            fail_msg("%s: output does not end with one newline",
+                     formats[i] ? formats[i] : "--compare");
+        run_free(&r);
+    }
+    run r = RUN(NULL, "-g", "uniform:10", "-f", "binary");
+    expect_status(&r, 0);
+    assert_int_equal(r.out_len % 8, 0);
+    assert_memory_equal(r.out, "VORB", 4);
+    run_free(&r);
+}
+
+/* The voronoid command line `make run` would run (make -n), from the
+ * repository root with a clean make environment; env is prepended to the
+ * make command (e.g. "VORONOID_PORT=1234"). Returns a new string: the
+ * last line that runs voronoid. */
+static char *make_run_line(const char *env, const char *args) {
+    char cmd[512];
+    snprintf(cmd, sizeof cmd,
+             "env -u PORT -u ARGS -u MAKEFLAGS -u MFLAGS -u MAKELEVEL %s "
+             "make -n -s --no-print-directory run %s 2>&1",
+             env, args);
+    FILE *f = popen(cmd, "r");
+    if (f == NULL) fail_msg("cannot run %s", cmd);
+    char line[1024], *found = NULL;
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (strstr(line, "/voronoid") != NULL && strncmp(line, "./", 2) == 0) {
+            free(found);
+            found = strdup(line);
+        }
+    }
+    int rc = pclose(f);
+    if (rc != 0 || found == NULL) fail_msg("%s: status %d, no voronoid line", cmd, rc);
+    return found;
+}
+
+/* make run PORT=... ARGS=...: the port only when given, so that
+ * VORONOID_PORT in the environment is not overridden by a fixed flag. */
+static void test_make_run(void **state) {
+    (void)state;
+    if (access("Makefile", R_OK) != 0 || access("cli/voronoi.c", R_OK) != 0) {
+        fail_msg("run from the repository root (make unit does)");
+    }
+    char *l = make_run_line("", "PORT=0 ARGS='--workers 1 --queue 5'");
+    if (strstr(l, "voronoid --port 0 --workers 1 --queue 5") == NULL) fail_msg("%s", l);
+    free(l);
+    l = make_run_line("VORONOID_PORT=1234", "");
+    if (strstr(l, "--port") != NULL || strstr(l, "--bind") != NULL) fail_msg("%s", l);
+    free(l);
+    l = make_run_line("", "ARGS=--help");
+    if (strstr(l, "voronoid --help") == NULL) fail_msg("%s", l);
+    free(l);
+}
+
 static void test_compare(void **state) {
     (void)state;
     NEED_CLI();
@@ -353,6 +420,52 @@ static void test_compare(void **state) {
     run_free(&r);
     r = RUN(NULL, "--compare", "-f", "svg", "-g", "uniform:3");
     expect_status(&r, 2);
+    run_free(&r);
+
+    /* --repeat: that many runs per algorithm, medians inside the spread. */
+    r = RUN(NULL, "--compare", "--repeat", "4", "-g", "gaussian:500:2");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 4);
+    algos = json_object_get(j, "algorithms");
+    for (size_t i = 0; i < 3; i++) {
+        json_t *a = json_array_get(algos, i);
+        if (strcmp(json_string_value(json_object_get(a, "status")), "ok") != 0) continue;
+        assert_int_equal(json_array_size(json_object_get(a, "runs_ms")), 4);
+        json_t *sp = json_object_get(json_object_get(a, "spread"), "compute_ms");
+        double med = json_number_value(json_object_get(sp, "median"));
+        assert_true(json_number_value(json_object_get(sp, "min")) <= med);
+        assert_true(med <= json_number_value(json_object_get(sp, "max")));
+    }
+    if (all_ok && !json_is_true(json_object_get(j, "agree"))) {
+        fail_msg("the algorithms disagree over repeated runs: %s",
+                 json_string_value(json_object_get(j, "disagreement")));
+    }
+    json_decref(j);
+    run_free(&r);
+    /* From a JSON file's "repeat" too, and the flag wins over it. */
+    put_text("rep.json", "{\"points\": [[0,0],[1,0],[0,1],[1,1]], \"repeat\": 2}");
+    r = RUN(NULL, "-c", "@rep.json");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 2);
+    json_decref(j);
+    run_free(&r);
+    r = RUN(NULL, "-c", "-r", "3", "@rep.json");
+    expect_status(&r, 0);
+    j = json_out(&r);
+    assert_int_equal(jint(j, "repeat"), 3);
+    json_decref(j);
+    run_free(&r);
+    /* Without --compare the file's repeat is an input error (exit 1). */
+    r = RUN(NULL, "@rep.json");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "repeat applies only to a comparison"));
+    run_free(&r);
+    /* repeat x points over 10^7: refused, naming the limit. */
+    r = RUN(NULL, "-c", "-r", "50", "-g", "uniform:300000");
+    expect_status(&r, 1);
+    assert_non_null(strstr(r.err, "at most 10000000, so at most 33 repeats"));
     run_free(&r);
 }
 
@@ -442,7 +555,7 @@ static void test_usage_errors(void **state) {
     (void)state;
     NEED_CLI();
     static const struct {
-        const char *args[4];
+        const char *args[5];
         const char *words;
     } cases[] = {
         {{"--frobnicate", NULL}, "unknown option --frobnicate"},
@@ -458,9 +571,13 @@ static void test_usage_errors(void **state) {
         {{"a.csv", "b.csv", NULL}, "one input at most"},
         {{"-g", "grid:4", "a.csv", NULL}, "exclude each other"},
         {{"--algorithm", NULL}, "needs a value"},
+        {{"--compare", "--repeat", "0", NULL}, "repeat 0 is out of range; give an integer from 1 to 50"},
+        {{"-c", "-r", "2.5", NULL}, "repeat 2.5 is not an integer"},
+        {{"-c", "--repeat", "many", NULL}, "repeat \"many\" is not a number"},
+        {{"--repeat", "3", "-g", "grid:4", NULL}, "--repeat applies to --compare only"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        const char *args[5] = {0};
+        const char *args[6] = {0};
         memcpy(args, cases[i].args, sizeof cases[i].args);
         run r = run_cli(NULL, args);
         if (r.status != 2 || strstr(r.err, cases[i].words) == NULL) {
@@ -473,8 +590,8 @@ static void test_usage_errors(void **state) {
     expect_status(&r, 0);
     static const char *const documented[] = {"--algorithm", "--bounds", "--format",
                                              "--input", "--include", "--generate",
-                                             "--compare", "timings", "--trace",
-                                             "counts", "Exit status"};
+                                             "--compare", "--repeat", "timings",
+                                             "--trace", "counts", "Exit status"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++) {
         if (strstr(r.out, documented[i]) == NULL) fail_msg("--help lacks %s", documented[i]);
     }
@@ -489,8 +606,10 @@ int main(void) {
         cmocka_unit_test(test_generate_and_formats),
         cmocka_unit_test(test_compare),
         cmocka_unit_test(test_trace_and_counts),
+        cmocka_unit_test(test_trailing_newline),
         cmocka_unit_test(test_input_errors),
         cmocka_unit_test(test_usage_errors),
+        cmocka_unit_test(test_make_run),
     };
     return cmocka_run_group_tests_name("cli", tests, setup, teardown);
 }

@@ -270,6 +270,24 @@ static void test_bp_poly(void **state) {
         if (in_safe_range(a) && in_safe_range(b) && in_safe_range(p))
             assert_int_equal(vor__fortune_bp_poly(a, b, p, 1), want);
     }
+    /* lattices far from the origin and in halves, many exact zeros (p
+     * exactly below the breakpoint): the small integer path */
+    int zeros = 0;
+    for (int it = 0; it < 30000; it++) {
+        double off = (double)(long)(vt_next(&r) % 2000000) - 1e6,
+               unit = it % 2 ? 1.0 : 0.5;
+        double a[2], b[2], p[2];
+        for (int k = 0; k < 2; k++) {
+            a[k] = off + unit * (double)(long)(vt_next(&r) % 9);
+            b[k] = off + unit * (double)(long)(vt_next(&r) % 9);
+            p[k] = off + unit * (double)(long)(vt_next(&r) % 9);
+        }
+        int want = q_bp_poly(a, b, p);
+        zeros += want == 0;
+        assert_int_equal(vor__fortune_bp_poly_slow(a, b, p), want);
+    }
+    print_message("bp_poly: %d exact zeros on lattices\n", zeros);
+    assert_true(zeros > 1000);
 }
 
 /* The breakpoint predicate's meaning: a site exactly on a circle through
@@ -533,6 +551,53 @@ static void test_circle_cmp(void **state) {
             declined++;
         }
     }
+    /* circles of integer radius (Pythagorean: three lattice points on
+     * each) whose tops meet on one row or miss it by one, the centre
+     * higher on the smaller circle: the tops' order then needs the
+     * radii's square roots, which are integers here */
+    static const long radii[] = {5, 10, 13, 17, 25, 29};
+    int rooted = 0;
+    for (int it = 0; it < 4000; it++) {
+        double t[2][3][2];
+        long r0 = radii[vt_next(&r) % 6], r1 = radii[vt_next(&r) % 6];
+        long cx0 = (long)(vt_next(&r) % 41) - 20, cy0 = (long)(vt_next(&r) % 41);
+        long cx1 = cx0 + (long)(vt_next(&r) % 3) - 1;
+        long cy1 = cy0 + r0 - r1 + (long)(vt_next(&r) % 3) - 1;
+        for (int c = 0; c < 2; c++) {
+            long rad = c ? r1 : r0, cx = c ? cx1 : cx0, cy = c ? cy1 : cy0;
+            long pts[64][2];
+            int np = 0;
+            for (long x = -rad; x <= rad; x++)
+                for (long y = -rad; y <= rad; y++)
+                    if (x * x + y * y == rad * rad && np < 64) {
+                        pts[np][0] = x;
+                        pts[np++][1] = y;
+                    }
+            int i0 = (int)(vt_next(&r) % (uint64_t)np), i1, i2;
+            do i1 = (int)(vt_next(&r) % (uint64_t)np); while (i1 == i0);
+            do i2 = (int)(vt_next(&r) % (uint64_t)np); while (i2 == i0 || i2 == i1);
+            int ix[3] = {i0, i1, i2};
+            for (int k = 0; k < 3; k++) {
+                t[c][k][0] = (double)(cx + pts[ix[k]][0]);
+                t[c][k][1] = (double)(cy + pts[ix[k]][1]);
+            }
+            if (vor_orient2d(t[c][0], t[c][1], t[c][2]) < 0) {
+                double sw[2] = {t[c][1][0], t[c][1][1]};
+                memcpy(t[c][1], t[c][2], sizeof sw);
+                memcpy(t[c][2], sw, sizeof sw);
+            }
+        }
+        const double *e1[3] = {t[0][0], t[0][1], t[0][2]},
+                     *e2[3] = {t[1][0], t[1][1], t[1][2]};
+        int want = q_event_cmp(e1, e2), res;
+        assert_int_equal(vor__fortune_circle_cmp_small(t[0][0], t[0][1],
+                                                       t[0][2], t[1][0],
+                                                       t[1][1], t[1][2], &res),
+                         1);
+        assert_int_equal(res, want);
+        rooted += (r0 != r1) && cy0 != cy1;
+    }
+    assert_true(rooted > 1000);
     print_message("circle_cmp: %d decided by small integers, %d declined\n",
                   small, declined);
     vor__fortune_ws_free(ws);

@@ -106,7 +106,8 @@ static void test_64_concurrent_clients(void **state) {
         /* Large answers (megabytes): complete, the right size, and the
          * same diagram whichever algorithm computed it. */
         assert_non_null(strstr(r[i].body, expect_n));
-        assert_true(r[i].len > 2 && r[i].body[r[i].len - 1] == '}');
+        assert_true(r[i].len > 2 && r[i].body[r[i].len - 2] == '}' &&
+                    r[i].body[r[i].len - 1] == '\n');
         size_t len = 0;
         const char *part = diagram_part(r[i].body, &len);
         if (part == NULL) fail_msg("client %d: no diagram in %.200s", i, r[i].body);
