@@ -68,12 +68,14 @@ int vor_incircle(const double *a, const double *b, const double *c,
 
 int vor__orient2d_counted(const double *a, const double *b, const double *c,
                           uint64_t *exact) {
-    return vor__orient2d_fast_n(a, b, c, exact);
+    ++*exact;
+    return vor__orient2d_exact(a, b, c);
 }
 
 int vor__incircle_counted(const double *a, const double *b, const double *c,
                           const double *d, uint64_t *exact) {
-    return vor__incircle_fast_n(a, b, c, d, exact);
+    ++*exact;
+    return vor__incircle_exact(a, b, c, d);
 }
 
 /* ---- Error-free transformations ------------------------------------------ */

@@ -171,9 +171,10 @@ static inline int vor__incircle_fast(const double *a, const double *b,
  * name_n is name with one more argument: it adds 1 to *exact when the call
  * is handed to the out-of-line exact routines (the inline filters could not
  * decide), so that the algorithms count their exact calls
- * (vor_counts.exact). The inline part is the same filter; the counter is
- * passed only to the out-of-line call behind it (vor__orient2d_counted,
- * vor__incircle_counted: the dynamic filter, then the exact routine, in
+ * (vor_counts.exact). The inline part is the same filters, whose shared
+ * differences the compiler computes once; the counter is passed only to
+ * the out-of-line call behind them (vor__orient2d_counted,
+ * vor__incircle_counted: the count, then the exact routine, in
  * predicates.c), so the common path does not carry it. */
 int vor__orient2d_counted(const double *a, const double *b, const double *c,
                           uint64_t *exact);
@@ -258,6 +259,8 @@ static inline int vor__incircle_static_n(const double *a, const double *b,
                                          const double *c, const double *d,
                                          double s, uint64_t *exact) {
     int r = vor__incircle_static_filter(a, b, c, d, s);
+    if (r) return r;
+    r = vor__incircle_filter(a, b, c, d);
     return r ? r : vor__incircle_counted(a, b, c, d, exact);
 }
 
@@ -294,6 +297,8 @@ static inline int vor__orient2d_static_n(const double *a, const double *b,
                                          const double *c, double s,
                                          uint64_t *exact) {
     int r = vor__orient2d_static_filter(a, b, c, s);
+    if (r) return r;
+    r = vor__orient2d_filter(a, b, c);
     return r ? r : vor__orient2d_counted(a, b, c, exact);
 }
 
