@@ -3,12 +3,14 @@
  * Not installed, not for callers of the library. Names are vor__ (internal)
  * or vor_ where tests and the codec may use them too.
  *
- * How vor_compute() (core/voronoi.c) runs:
+ * How vor_compute() and vor_compute_ex() (core/voronoi.c) run:
  *   1. sites->n < 3, or all sites collinear (exact orient2d): the degenerate
  *      diagram of parallel lines is built by vor__diagram_degenerate(); the
- *      algorithms below are never called for such input.
+ *      algorithms below are never called for such input (nothing is counted
+ *      or traced).
  *   2. otherwise the algorithm's entry point; every one has the signature
- *      vor__algorithm_fn and builds a Delaunay mesh (Fortune's sweep finds
+ *      vor__algorithm_run_fn (a vor__run collects its counts and passes its
+ *      trace hook) and builds a Delaunay mesh (Fortune's sweep finds
  *      its triangles as vertex events), which vor__mesh_dual() (mesh.h)
  *      reads the diagram off. vor__diagram_build() alone defines the
  *      canonical form: vor__mesh_dual() produces the same bits without its

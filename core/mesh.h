@@ -140,7 +140,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
 
 /* vor__bowyer_watson and vor__flip: the insertion order
  * (vor__insertion_order), the mesh from build, then vor__mesh_dual. Same
- * contract as a vor__algorithm_fn (mesh_dual.c). */
+ * contract as a vor__algorithm_run_fn (mesh_dual.c). */
 vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
                              vor__run *run, vor_diagram **out);
 
