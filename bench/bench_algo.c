@@ -24,9 +24,11 @@
  *           counts Voronoi vertices (triangles merged across cocircular
  *           edges) to compare with our diagram.
  *
- * Distributions: uniform (unit square), gaussian (N(0,1) per axis), random
- * (integer pixels in 800x600, with duplicates) and unit-circle (cos, sin of
- * 2 pi k/n), from tests/support/testsets.h, deterministic for a seed.
+ * Distributions: every one the service generates (uniform, gaussian,
+ * pixels alias random, grid, circle, clustered, lognormal, outlier,
+ * decades; api/distribution.h through tests/support/testsets.h), the same
+ * points as `voronoi --generate DIST:N:SEED`, and unit-circle (cos, sin of
+ * 2 pi k/n, the same as circle).
  *
  * Each table case runs in its own process so that one case's heap does not
  * skew the next one's time or memory, and so that a crash or an overlong
@@ -63,7 +65,8 @@ static void usage(void) {
         "       bench_algo ours   --algo A --points FILE [--runs R]\n"
         "                         [--budget-ms B] [--tris FILE]\n"
         "       bench_algo check  --points FILE --tris FILE\n"
-        "distributions: uniform gaussian random unit-circle\n",
+        "distributions: uniform gaussian pixels (random) grid circle clustered\n"
+        "               lognormal outlier decades unit-circle\n",
         stderr);
 }
 
@@ -137,18 +140,15 @@ static size_t split(const char *s, char *buf, size_t bufsize,
 /* ---- points ----------------------------------------------------------------- */
 
 /* New array of 2n doubles for a named distribution, NULL if unknown or out of
- * memory. */
+ * memory: the service's distributions (api/distribution.h, the very points
+ * `voronoi --generate DIST:N:SEED` makes) and unit-circle. */
 static double *generate(const char *dist, size_t n, uint64_t seed) {
-    if (!strcmp(dist, "uniform"))
-        return vt_uniform(n, seed);
-    if (!strcmp(dist, "gaussian"))
-        return vt_gaussian(n, seed);
-    if (!strcmp(dist, "random"))
-        return vt_pixels(n, seed);
     if (!strcmp(dist, "unit-circle"))
         return vt_unit_circle(n);
-    fprintf(stderr, "unknown distribution %s\n", dist);
-    return NULL;
+    double *xy = vt_distribution(dist, n, seed);
+    if (!xy)
+        fprintf(stderr, "unknown distribution %s (or out of memory)\n", dist);
+    return xy;
 }
 
 /* ---- one timed case ---------------------------------------------------------- */
