@@ -263,10 +263,24 @@ async function main() {
             /* the daemon serves the page as it is in the tree (a stale
              * embedded copy means the binary needs a rebuild) */
             const dir = WEB_DIR || path.join(ROOT, 'web');
-            for (const f of ['index.html', 'app.js', 'style.css']) {
-                const served = await page.evaluate((u) => fetch(u).then((r) => r.text()), base + (f === 'index.html' ? '' : f));
-                assert(served === fs.readFileSync(path.join(dir, f), 'utf8'),
+            const files = fs.readdirSync(dir).filter((f) => fs.statSync(path.join(dir, f)).isFile());
+            assert(files.includes('main.js') && files.includes('index.html'), 'web files: ' + files.join(', '));
+            for (const f of files) {
+                const served = await page.evaluate((u) => fetch(u).then(async (r) =>
+                    ({ status: r.status, type: r.headers.get('content-type') || '', text: await r.text() })),
+                base + (f === 'index.html' ? '' : f));
+                assert(served.status === 200, f + ' answers ' + served.status);
+                assert(served.text === fs.readFileSync(path.join(dir, f), 'utf8'),
                     f + ' as served differs from ' + path.relative(ROOT, path.join(dir, f)) + ' (rebuild the daemon: make)');
+                /* a module script runs only when served as JavaScript */
+                if (f.endsWith('.js')) assert(/^text\/javascript\b/.test(served.type), f + ' is served as ' + served.type);
+            }
+            /* every module is one of these files, loaded by the page from its own origin */
+            const loaded = await page.evaluate(() => performance.getEntriesByType('resource')
+                .map((e) => new URL(e.name)).filter((u) => u.origin === location.origin && /\.js$/.test(u.pathname))
+                .map((u) => u.pathname.slice(1)));
+            for (const f of files.filter((x) => x.endsWith('.js'))) {
+                assert(loaded.includes(f), f + ' was not loaded by the page (loaded: ' + loaded.join(', ') + ')');
             }
         });
 
