@@ -6,8 +6,10 @@
  * diagram), builds the compute request from it and the form (algorithm,
  * clip box, parts to draw), sends it, hands the answer to the decoder and
  * the renderer, and shows the server's timings next to the round trip.
- * Up to BINARY_ABOVE points it asks for JSON with only the parts it draws;
- * above, for the binary diagram.
+ * Up to BINARY_ABOVE points it asks for JSON with only the parts it draws
+ * and reads it here; above, for the binary diagram, which the worker
+ * fetches, decodes and prepares (decode.js fetchDiagram) so that the page
+ * never waits on it.
  *
  * Invariants: at most one compute request is in flight (a new one aborts
  * the old, jobs.compute holds its AbortController); renderer.layers
@@ -17,11 +19,12 @@ import {
     $, pub, jobs, ALGO_LABEL, PHASE_COLOR, LITTLE_ENDIAN,
     fmtMs, fmtInt, fmtBytes, roundTo, fmtCoord,
 } from './util.js';
-import { ServiceError, send, isAbort, parseServerTiming, timingOf } from './api.js';
-import { fromJson, fromBinary, unreadable } from './decode.js';
+import { ServiceError, send, buildRequest, isAbort, parseServerTiming, timingOf } from './api.js';
+import { fromJson, unreadable, fetchDiagram } from './decode.js';
+import { prepare } from './geometry.js';
 import { setStatus, setBusy, showError, clearError } from './status.js';
 import {
-    layers, setResult, clearResult, drawNow, scheduleDraw, afterPaint, geomInfo,
+    layers, setResult, clearResult, drawNow, scheduleDraw, afterPaint, geomInfo, CELL_COLOURS,
     fitNextResult, addPreviewPoint, toWorld, visibleWorld, pixelSize, attachInteraction,
 } from './renderer.js';
 
@@ -103,18 +106,24 @@ export async function compute() {
     const alg = selectedAlgorithm();
     setBusy(true, 'Computing with ' + ALGO_LABEL[alg] + '…');
     try {
-        /* large answers come as binary arrays: no text to parse */
+        /* large answers come as binary arrays: no text to parse, and they
+         * are fetched, decoded and prepared off the page's thread */
         const binary = LITTLE_ENDIAN && expectedPoints(source) > BINARY_ABOVE;
-        const r = await send('voronoi', {
+        const opt = {
             algorithm: alg, bounds: clipBounds(),
-            include: includeParts(), format: binary ? 'binary' : 'json',
-            buffer: binary, signal: abort.signal,
-        }, requestSource());
-        const tp = performance.now();
-        let D;
+            include: includeParts(), format: binary ? 'binary' : 'json', signal: abort.signal,
+        };
+        const t0 = performance.now();
+        let D, G = null, serverTiming;
         if (binary) {
-            D = fromBinary(r.buffer);
+            const req = buildRequest('voronoi', Object.assign({}, opt, { signal: undefined }), requestSource());
+            const out = await fetchDiagram(req, abort.signal, true, CELL_COLOURS, prepare);
+            D = out.D;
+            G = out.G;
+            serverTiming = out.serverTiming;
+            pub.decodedIn = out.where;
         } else {
+            const r = await send('voronoi', opt, requestSource());
             let res;
             try {
                 res = JSON.parse(r.text);
@@ -122,22 +131,24 @@ export async function compute() {
                 throw unreadable('is not JSON the page can parse (' + e.message + ')');
             }
             D = fromJson(res);
+            serverTiming = r.resp.headers.get('server-timing');
+            pub.decodedIn = 'page';
         }
-        const roundtrip = r.ms + (performance.now() - tp);
+        const roundtrip = performance.now() - t0;
         if (abort !== jobs.compute) return;
         const td = performance.now();
-        setResult(D);
+        setResult(D, G);
         showAutoBox(D);
-        drawNow();
-        const phases = parseServerTiming(r.resp.headers.get('server-timing'));
-        showTimings(D, roundtrip, performance.now() - td, phases);
+        const drawn = drawNow();
+        const phases = parseServerTiming(serverTiming);
+        showTimings(D, roundtrip, null, phases);
         const count = ++pub.computeCount;
-        afterPaint(() => {
+        drawn.then(() => afterPaint(() => {
             if (count !== pub.computeCount) return;
             const drawMs = performance.now() - td;
             $('t-draw').textContent = fmtMs(drawMs);
             pub.timings.draw_ms = drawMs;
-        });
+        }));
         setStatus((ALGO_LABEL[D.algorithm] || D.algorithm) + ': ' + fmtInt(D.nSites) + ' sites, computed in ' +
             fmtMs(timingOf(D, 'compute')));
     } catch (e) {

@@ -6,11 +6,15 @@
  * whatever the format. Pure functions of their input: no DOM, so they run
  * as well in a worker as on the page.
  *
+ * fetchDiagram() fetches an answer and does the same, and the drawing's
+ * preparation, in a worker (worker.js), so that a large answer never
+ * holds the page.
+ *
  * Cost: O(size of the answer); the binary sections are read in place
  * through typed-array views, only the per-input arrays are copied.
  */
 import { ALGORITHMS } from './util.js';
-import { ServiceError } from './api.js';
+import { ServiceError, problemFrom } from './api.js';
 
 /* Both decoders return the same plain record of typed arrays:
  *   algorithm, format ('json' | 'binary'), nInput, nSites, nVertices,
@@ -198,4 +202,119 @@ export function pointsOnly(points) {
         vxy: new Float64Array(0), ends: new Int32Array(0), esites: new Int32Array(0),
         rayEdge: new Int32Array(0), rayDir: new Float64Array(0), tri: null, clip: null,
     };
+}
+
+/* ---- off the page's thread ------------------------------------------------ */
+
+let worker = null;
+let ready = null;         /* resolves to whether the worker runs */
+let nextId = 1;
+const pending = new Map();
+
+/* Starts the worker once; the promise tells whether it loaded (it posts
+ * 'ready' after its imports). Until then nothing is handed over, so a
+ * worker that cannot start (no module workers, a policy against it)
+ * costs only the fallback of decoding here. */
+function workerReady() {
+    if (ready) return ready;
+    ready = new Promise((resolve) => {
+        let w;
+        try {
+            w = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+        } catch (e) {
+            resolve(false);
+            return;
+        }
+        w.onmessage = (ev) => {
+            const m = ev.data;
+            if (m === 'ready') {
+                worker = w;
+                resolve(true);
+                return;
+            }
+            const p = pending.get(m.id);
+            if (!p) return;
+            pending.delete(m.id);
+            if (m.problem) p.reject(new ServiceError(m.problem));
+            else if (m.message) p.reject(new Error(m.message));
+            else if (m.unreachable) p.reject(unreachable({ message: m.unreachable }));
+            else p.resolve({ D: m.D, G: m.G, serverTiming: m.serverTiming, ms: m.ms });
+        };
+        w.onerror = (ev) => {
+            ev.preventDefault();
+            if (worker) {
+                /* failed while working: what waits fails with it */
+                for (const p of pending.values()) p.reject(new Error('the decoding worker failed: ' + (ev.message || 'error')));
+                pending.clear();
+            }
+            worker = null;
+            ready = Promise.resolve(false);
+            w.terminate();
+            resolve(false);
+        };
+    });
+    return ready;
+}
+
+/* Fetches a diagram, decodes it and prepares it for drawing with
+ * prepareFn (geometry prepare): all in the worker (worker.js) when one can
+ * run, so that not even the assembly of a body of hundreds of megabytes
+ * happens on the page's thread; else here. req is api.js buildRequest's
+ * {url, init} (init without its signal); signal aborts it. Resolves to
+ * {D, G, serverTiming, ms, where: 'worker' | 'page'}; rejects with a
+ * ServiceError for a problem answer, an AbortError when aborted. */
+export async function fetchDiagram(req, signal, binary, nColours, prepareFn) {
+    if (signal && signal.aborted) throw new DOMException('aborted', 'AbortError');
+    if (!(await workerReady()) || !worker) {
+        const t0 = performance.now();
+        const init = Object.assign({}, req.init, { signal: signal });
+        let resp;
+        try {
+            resp = await fetch(req.url, init);
+        } catch (e) {
+            if (e.name === 'AbortError') throw e;
+            throw unreachable(e);
+        }
+        if (!resp.ok) throw problemFrom(resp, await resp.text());
+        let D;
+        if (binary) {
+            D = fromBinary(await resp.arrayBuffer());
+        } else {
+            const text = await resp.text();
+            let res;
+            try {
+                res = JSON.parse(text);
+            } catch (e) {
+                throw unreadable('is not JSON the page can parse (' + e.message + ')');
+            }
+            D = fromJson(res);
+        }
+        return {
+            D: D, G: prepareFn(D, nColours), serverTiming: resp.headers.get('server-timing'),
+            ms: performance.now() - t0, where: 'page',
+        };
+    }
+    const id = nextId++;
+    const out = await new Promise((resolve, reject) => {
+        pending.set(id, { resolve: resolve, reject: reject });
+        if (signal) {
+            signal.addEventListener('abort', () => {
+                if (!pending.has(id)) return;
+                pending.delete(id);
+                worker.postMessage({ abort: id });
+                reject(new DOMException('aborted', 'AbortError'));
+            }, { once: true });
+        }
+        worker.postMessage({ id: id, url: req.url, init: req.init, binary: binary, nColours: nColours });
+    });
+    out.where = 'worker';
+    return out;
+}
+
+/* The ServiceError for a request that got no answer at all. */
+export function unreachable(e) {
+    return new ServiceError({
+        title: 'Cannot reach the service',
+        detail: 'The request did not get an answer (' + e.message + '). Is voronoid running?',
+    });
 }

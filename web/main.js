@@ -10,7 +10,9 @@
  *   api.js       the service client (requests, problems, compare)
  *   status.js    status line, busy state, error box
  *   decode.js    JSON and binary answers -> one diagram record
- *   renderer.js  the diagram canvas: view, drawing, pan and zoom
+ *   geometry.js  a record prepared for drawing: frame, edges, grid index
+ *   worker.js    fetches, decodes and prepares large answers off-thread
+ *   renderer.js  the diagram canvas: view, drawing in slices, pan, zoom
  *   controls.js  point sources, Compute, timings, downloads
  *   compare.js   the compare view
  *   sweep.js     the size sweep
