@@ -98,8 +98,10 @@ function showAutoBox(D) {
 }
 
 export async function compute() {
+    clearTimeout(genTimer);
     clearError();
     syncLayers();
+    const asked = describeSource();
     if (jobs.compute) jobs.compute.abort();
     const abort = new AbortController();
     jobs.compute = abort;
@@ -138,6 +140,7 @@ export async function compute() {
         if (abort !== jobs.compute) return;
         const td = performance.now();
         setResult(D, G);
+        markStale(false, asked);
         showAutoBox(D);
         const drawn = drawNow();
         const phases = parseServerTiming(serverTiming);
@@ -241,6 +244,40 @@ function showTimings(res, roundtrip, drawMs, phases) {
 
 /* ---- sources ------------------------------------------------------------ */
 
+/* Up to this many points a change of distribution, N or seed recomputes
+ * by itself, once the input has been still for GEN_DEBOUNCE_MS; above,
+ * the diagram is marked out of date until Compute is pressed. */
+const AUTO_RECOMPUTE_MAX = 20000;
+const GEN_DEBOUNCE_MS = 350;
+let genTimer = 0;
+/* What the diagram on the canvas shows (describeSource's text). */
+let shown = null;
+
+function generatorChanged() {
+    setSource({ kind: 'generate' }, true);
+    clearTimeout(genTimer);
+    if (genParams().n <= AUTO_RECOMPUTE_MAX) {
+        genTimer = setTimeout(compute, GEN_DEBOUNCE_MS);
+        markStale(false);
+    } else {
+        markStale(true);
+    }
+}
+
+/* Marks the diagram as out of date (or not), saying what it shows and
+ * what Compute would draw; text, when given, is what it shows now. */
+function markStale(on, text) {
+    if (text !== undefined) shown = text;
+    on = on && shown !== null;
+    pub.stale = on;
+    $('canvas-wrap').classList.toggle('stale', on);
+    $('stale').hidden = !on;
+    if (on) {
+        $('stale-text').textContent = 'Out of date: the diagram shows ' + shown + '. Compute draws ' +
+            pub.source.text + '.';
+    }
+}
+
 function describeSource() {
     let text;
     if (source.kind === 'generate') {
@@ -256,6 +293,7 @@ function describeSource() {
     }
     $('source').textContent = 'Source: ' + text;
     pub.source = { kind: source.kind, text: text };
+    return text;
 }
 
 function setSource(s, fit) {
@@ -384,9 +422,16 @@ export function wireControls() {
         r.addEventListener('change', () => { if (pub.lastResult || source.kind !== 'generate') compute(); });
     }
     for (const id of ['distribution', 'n', 'seed']) {
-        $(id).addEventListener('change', () => setSource({ kind: 'generate' }, true));
+        $(id).addEventListener('input', generatorChanged);
+        $(id).addEventListener('change', generatorChanged);
     }
-    $('n').addEventListener('keydown', (ev) => { if (ev.key === 'Enter') setSource({ kind: 'generate' }, true); });
+    $('n').addEventListener('keydown', (ev) => {
+        if (ev.key !== 'Enter') return;
+        ev.preventDefault();
+        setSource({ kind: 'generate' }, true);
+        compute();
+    });
+    $('stale-compute').addEventListener('click', () => compute());
     $('generate').addEventListener('click', () => {
         setSource({ kind: 'generate' }, true);
         compute();

@@ -57,6 +57,9 @@ export const pub = {
     downloadCount: 0,
     source: null,
     view: null,
+    stale: false,         /* the diagram shows other points than the form */
+    drawing: false,       /* a frame is being drawn (renderer.js) */
+    drawCount: 0,         /* frames finished */
 };
 if (typeof window !== 'undefined') window.voronoid = pub;
 

@@ -527,6 +527,47 @@ async function main() {
             assert((await canvasPixels(page, 'diagram')).edge > 300, 'no edges on the canvas');
         });
 
+        await step('changing N or seed recomputes a small diagram and marks a large one out of date', async () => {
+            await page.fill('#n', '1000');
+            let before = await state(page);
+            await page.click('#compute');
+            await waitComputed(page, before);
+            /* a new seed for 1000 points: recomputed without pressing anything */
+            before = await state(page);
+            await page.fill('#seed', '11');
+            const s = await waitComputed(page, before);
+            assert(s.result.n_sites === 1000, 'recomputed ' + s.result.n_sites + ' sites');
+            assert(!(await page.evaluate(() => window.voronoid.stale)), 'marked stale after the recompute');
+            assert(await page.locator('#stale').isHidden(), 'the out-of-date note shows');
+            assert((await text(page, '#source')).includes('seed 11'), 'source line ' + await text(page, '#source'));
+            /* typing several digits of N computes once, for the last value */
+            before = await state(page);
+            await page.locator('#n').fill('');
+            await page.locator('#n').pressSequentially('1500', { delay: 30 });
+            const s2 = await waitComputed(page, before);
+            await page.waitForTimeout(600);
+            const s3 = await state(page);
+            assert(s2.result.n_sites === 1500 && s3.computeCount === before.computeCount + 1,
+                'typing 1500 gave ' + (s3.computeCount - before.computeCount) + ' computes, the last of ' + s3.result.n_sites + ' sites');
+            /* 50000 points: not recomputed, marked out of date */
+            before = await state(page);
+            await page.fill('#n', '50000');
+            await page.waitForFunction(() => window.voronoid.stale);
+            await page.waitForTimeout(700); /* longer than the recompute's delay */
+            const stale = await state(page);
+            assert(stale.computeCount === before.computeCount && !stale.busy, 'a large N was recomputed by itself');
+            assert(await page.locator('#stale').isVisible(), 'no out-of-date note');
+            const note = await text(page, '#stale-text');
+            assert(/N = 1,500/.test(note) && /N = 50,000/.test(note), 'the note does not say what is shown and what would be: ' + note);
+            assert(await page.evaluate(() => document.getElementById('canvas-wrap').classList.contains('stale')), 'the canvas is not dimmed');
+            await page.screenshot({ path: path.join(OUT, 'stale.png') });
+            /* the note's button computes */
+            await page.click('#stale-compute');
+            const s4 = await waitComputed(page, before);
+            assert(s4.result.n_sites === 50000, 'computed ' + s4.result.n_sites);
+            assert(await page.locator('#stale').isHidden() && !(await page.evaluate(() => window.voronoid.stale)), 'still marked stale');
+        });
+
         await step('compare runs all three algorithms and they agree', async () => {
             await page.fill('#n', '1000');
             await page.fill('#seed', '7');
