@@ -97,7 +97,21 @@ function showAutoBox(D) {
     }
 }
 
-export async function compute() {
+/* On a phone the diagram sits above the controls: when the user asks for
+ * a diagram from down there, it is brought into view. */
+function revealDiagram() {
+    if (!window.matchMedia('(max-width: 720px)').matches) return;
+    const top = $('view').getBoundingClientRect().top;
+    if (top >= 0 && top < window.innerHeight / 3) return;
+    const smooth = !window.matchMedia('(prefers-reduced-motion: reduce)').matches;
+    $('view').scrollIntoView({ block: 'start', behavior: smooth ? 'smooth' : 'auto' });
+}
+
+/* Computes the diagram of the current source with the form's options.
+ * opts.reveal: the user asked (Compute, Generate), so on a phone the
+ * diagram is scrolled into view. */
+export async function compute(opts) {
+    if (opts && opts.reveal) revealDiagram();
     clearTimeout(genTimer);
     clearError();
     syncLayers();
@@ -337,7 +351,7 @@ async function loadFile(file) {
             } catch (e) {
                 /* the service explains what is wrong with it, with a line */
                 setSource({ kind: 'file', name: file.name, type: 'application/json', data: text, size: file.size }, true);
-                return compute();
+                return compute({ reveal: true });
             }
             const pts = pointsFromJson(obj);
             if (pts) setSource({ kind: 'points', points: pts, label: file.name }, true);
@@ -355,7 +369,7 @@ async function loadFile(file) {
         showError(new ServiceError({ title: 'Cannot read the file', detail: file.name + ': ' + e.message }));
         return;
     }
-    return compute();
+    return compute({ reveal: true });
 }
 
 /* Adds a clicked point (rounded to the screen's resolution); the source
@@ -416,7 +430,7 @@ async function download(format) {
 export function wireControls() {
     $('compute-form').addEventListener('submit', (ev) => {
         ev.preventDefault();
-        compute();
+        compute({ reveal: true });
     });
     for (const r of document.querySelectorAll('input[name=algorithm]')) {
         r.addEventListener('change', () => { if (pub.lastResult || source.kind !== 'generate') compute(); });
@@ -429,17 +443,17 @@ export function wireControls() {
         if (ev.key !== 'Enter') return;
         ev.preventDefault();
         setSource({ kind: 'generate' }, true);
-        compute();
+        compute({ reveal: true });
     });
     $('stale-compute').addEventListener('click', () => compute());
     $('generate').addEventListener('click', () => {
         setSource({ kind: 'generate' }, true);
-        compute();
+        compute({ reveal: true });
     });
     $('new-seed').addEventListener('click', () => {
         $('seed').value = String(Math.floor(Math.random() * 1e6));
         setSource({ kind: 'generate' }, true);
-        compute();
+        compute({ reveal: true });
     });
     $('file').addEventListener('change', () => {
         const f = $('file').files[0];

@@ -174,7 +174,8 @@ async function waitOrError(page, fn, arg, errorsBefore, timeout) {
     /* two waits raced, not one combined function: the page's policy
      * forbids evaluating a function passed as a string */
     const opts = { timeout: timeout || STEP_TIMEOUT, polling: 50 };
-    const error = page.waitForFunction((e) => window.voronoid.errorCount > e && !window.voronoid.busy, errorsBefore, opts)
+    const error = page.waitForFunction((e) => window.voronoid && window.voronoid.errorCount > e && !window.voronoid.busy,
+        errorsBefore, opts)
         .then(() => 'error');
     const done = page.waitForFunction(fn, arg, opts).then(() => 'ok');
     const first = await Promise.race([done, error]);
@@ -244,7 +245,7 @@ async function main() {
             headless: true,
             args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
                 '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-            viewport: { width: 1440, height: 900 },
+            viewport: { width: 1280, height: 800 },
             deviceScaleFactor: 1,
             acceptDownloads: true,
         });
@@ -408,7 +409,7 @@ async function main() {
                     (window.voronoid.computeCount > 0 || window.voronoid.errorCount > 0));
             };
             try {
-                await cdp.send('Emulation.setDeviceMetricsOverride', { width: 1440, height: 900, deviceScaleFactor: 2, mobile: false });
+                await cdp.send('Emulation.setDeviceMetricsOverride', { width: 1280, height: 800, deviceScaleFactor: 2, mobile: false });
                 await reload();
                 const dims = await page.evaluate(() => {
                     const c = document.getElementById('diagram');
@@ -753,7 +754,46 @@ async function main() {
             const px = await canvasPixels(page, 'diagram');
             assert(px.edge > 1000, 'the diagram is not drawn after a resize');
             await page.screenshot({ path: path.join(OUT, 'narrow.png'), fullPage: true });
-            await page.setViewportSize({ width: 1440, height: 900 });
+            await page.setViewportSize({ width: 1280, height: 800 });
+        });
+
+        await step('on a phone (390x844) the diagram comes first and Compute brings it into view', async () => {
+            await page.setViewportSize({ width: 390, height: 844 });
+            try {
+                await page.goto(base, { waitUntil: 'load' });
+                await page.waitForFunction(() => window.voronoid && window.voronoid.computeCount > 0 &&
+                    !window.voronoid.busy && !window.voronoid.drawing);
+                const inView = () => page.evaluate(() => {
+                    const r = document.getElementById('diagram').getBoundingClientRect();
+                    return { top: r.top, bottom: r.bottom, height: r.height, width: r.width, vh: window.innerHeight };
+                });
+                let r = await inView();
+                assert(r.top >= 0 && r.top < r.vh && r.bottom <= r.vh, 'the canvas is not within the first screen: ' + JSON.stringify(r));
+                assert(r.width >= 380 && r.height >= 300, 'the canvas is small: ' + JSON.stringify(r));
+                assert((await canvasPixels(page, 'diagram')).edge > 5000, 'no diagram on the first screen');
+                /* the controls come after the diagram */
+                const order = await page.evaluate(() => ['view', 'compute', 'compare'].map((id) =>
+                    document.getElementById(id).getBoundingClientRect().top + window.scrollY));
+                assert(order[0] < order[1] && order[1] < order[2], 'diagram, controls, compare out of order: ' + order);
+                await page.screenshot({ path: path.join(OUT, 'phone.png') });
+                /* Compute, pressed from below the diagram, brings it back into view */
+                await page.fill('#n', '3000');
+                await page.locator('#compute').scrollIntoViewIfNeeded();
+                r = await inView();
+                assert(r.top < 0, 'the canvas should be scrolled away at the Compute button: ' + JSON.stringify(r));
+                const before = await state(page);
+                await page.click('#compute');
+                const s = await waitComputed(page, before);
+                assert(s.result.n_sites === 3000, 'computed ' + s.result.n_sites);
+                await page.waitForFunction(() => {
+                    const t = document.getElementById('diagram').getBoundingClientRect().top;
+                    return t >= 0 && t < window.innerHeight / 2;
+                });
+                await page.screenshot({ path: path.join(OUT, 'phone-after-compute.png') });
+                await page.screenshot({ path: path.join(OUT, 'phone-full.png'), fullPage: true });
+            } finally {
+                await page.setViewportSize({ width: 1280, height: 800 });
+            }
         });
 
         await step('no console errors, page errors or failed requests', async () => {
