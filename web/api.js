@@ -52,7 +52,8 @@ export function problemFrom(resp, text) {
 
 /* Builds {url, init} for POST path with the source src and the options
  * opt: algorithm, bounds (four numbers or null), include (array of part
- * names), format (json, geojson, svg, binary), signal. A JSON source
+ * names), format (json, geojson, svg, binary), repeat (compare: runs per
+ * algorithm, null for the service's default), signal. A JSON source
  * carries its options in the body; raw files carry them in the query
  * string, since their body is the file itself. */
 export function buildRequest(path, opt, src) {
@@ -61,11 +62,13 @@ export function buildRequest(path, opt, src) {
     const alg = opt.algorithm;
     const bounds = opt.bounds || null;
     if (opt.format && opt.format !== 'json') params.set('format', opt.format);
+    const repeat = opt.repeat != null ? opt.repeat : null;
     const init = { method: 'POST', headers: {}, signal: opt.signal };
     if (src.kind === 'file') {
         if (alg) params.set('algorithm', alg);
         if (opt.include) params.set('include', opt.include.join(','));
         if (bounds) params.set('bounds', bounds.join(','));
+        if (repeat != null) params.set('repeat', String(repeat));
         init.headers['Content-Type'] = src.type;
         init.body = src.data;
     } else {
@@ -77,6 +80,8 @@ export function buildRequest(path, opt, src) {
         if (opt.include) body.include = opt.include;
         else delete body.include;
         if (bounds) body.bounds = bounds;
+        if (repeat != null) body.repeat = repeat;
+        else delete body.repeat;
         init.headers['Content-Type'] = 'application/json';
         init.body = JSON.stringify(body);
     }
@@ -114,6 +119,57 @@ export async function send(path, opt, src) {
     return out;
 }
 
+/* ---- what this service knows ----------------------------------------
+ * The page is written against the newest contract; an older service may
+ * not know the `repeat` option of compare (it answers 400 naming it) or
+ * the distribution name `pixels` (its older name is `random`: a 422 that
+ * lists it). The page learns that from the first such answer, retries
+ * once in the older terms, and sends those from then on. */
+export const known = { repeat: true, pixels: true };
+
+/* The source and options as this service takes them. */
+export function adapt(src, opt) {
+    if (!known.pixels && src.kind === 'gen' && src.generate.distribution === 'pixels') {
+        src = Object.assign({}, src, { generate: Object.assign({}, src.generate, { distribution: 'random' }) });
+    }
+    if (!known.repeat && opt.repeat != null) opt = Object.assign({}, opt, { repeat: null, repeatDropped: true });
+    return [src, opt];
+}
+
+/* Whether the error e, answered to src and opt, taught the page something
+ * a retry can use (see known). */
+export function learn(e, src, opt) {
+    const p = e && e.problem;
+    if (!p) return false;
+    if (p.status === 400 && opt.repeat != null && known.repeat &&
+        (p.pointer === '/repeat' || /\brepeat\b/.test(p.detail || ''))) {
+        known.repeat = false;
+        return true;
+    }
+    if (p.status === 422 && known.pixels && src.kind === 'gen' && src.generate.distribution === 'pixels' &&
+        /distribution/.test(p.pointer + ' ' + p.detail) && /\brandom\b/.test(p.detail || '')) {
+        known.pixels = false;
+        return true;
+    }
+    return false;
+}
+
+/* send() in the terms this service takes, retried once per lesson. The
+ * answer says repeatDropped when the repeat option had to go. */
+export async function sendKnown(path, opt, src) {
+    for (let attempt = 0; ; attempt++) {
+        const [s, o] = adapt(src, opt);
+        try {
+            const r = await send(path, o, s);
+            r.repeatDropped = !!o.repeatDropped;
+            return r;
+        } catch (e) {
+            if (attempt < 2 && learn(e, s, o)) continue;
+            throw e;
+        }
+    }
+}
+
 /* "queue;dur=0.01, parse;dur=1.2;desc=..." -> [{name, dur, desc}] */
 export function parseServerTiming(h) {
     if (!h) return [];
@@ -143,10 +199,13 @@ export function timingOf(res, name) {
 
 const ALGORITHM_ORDER = ['fortune', 'bowyer-watson', 'flip'];
 
-/* Reads the compare answer, whichever arrangement the codec uses:
- * {agree, disagreement, results: [{algorithm, timings, ...}]} or
- * {agree, algorithms: {name: {...}}}. Returns {agree, disagreement,
- * rows: [{algorithm, compute_ms, total_ms, vertices, edges}]}. */
+/* Reads the compare answer (openapi.yaml, Comparison), also in the
+ * arrangements older codecs used ({results: [...]}, {algorithms: {name:
+ * {...}}}). Returns {agree, disagreement, n_sites, repeat, rows: [{
+ * algorithm, status, detail, compute_ms, total_ms, vertices, edges,
+ * spread: {phase: {median, min, max}} | null, runs_ms: [...] | null,
+ * counts: {name: integer} | null}]}. compute_ms is the median over the
+ * runs when the service repeated them. */
 export function normaliseCompare(j) {
     let list = j.results || j.algorithms || j.runs || [];
     if (!Array.isArray(list)) {
@@ -155,15 +214,20 @@ export function normaliseCompare(j) {
     const num = (...vals) => vals.find((v) => typeof v === 'number');
     const rows = list.map((r) => {
         const t = r.timings || r;
-        const counts = r.counts || {};
+        const counts = r.counts && typeof r.counts === 'object' ? r.counts : null;
+        const spread = r.spread && typeof r.spread === 'object' ? r.spread : null;
+        const runs = Array.isArray(r.runs_ms) ? r.runs_ms.filter((v) => typeof v === 'number') : null;
         return {
             algorithm: r.algorithm || r.name,
             status: r.status || 'ok',
             detail: r.detail || '',
             compute_ms: num(t.compute_ms, t.compute),
             total_ms: num(t.total_ms, t.total),
-            vertices: num(r.n_vertices, r.vertices, counts.vertices),
-            edges: num(r.n_edges, r.edges, counts.edges),
+            vertices: num(r.n_vertices, r.vertices, counts && counts.vertices),
+            edges: num(r.n_edges, r.edges, counts && counts.edges),
+            spread: spread,
+            runs_ms: runs && runs.length ? runs : null,
+            counts: counts,
         };
     });
     rows.sort((a, b) => ALGORITHM_ORDER.indexOf(a.algorithm) - ALGORITHM_ORDER.indexOf(b.algorithm));
@@ -171,14 +235,37 @@ export function normaliseCompare(j) {
         agree: j.agree === true,
         disagreement: j.disagreement || '',
         n_sites: j.n_sites,
+        repeat: typeof j.repeat === 'number' ? j.repeat : null,
         rows: rows,
     };
 }
 
-/* One POST compare of src with opt (algorithm, bounds, signal); resolves
- * to the normalised answer with the raw one in .raw. */
+/* The compute time of a compare row as {median, min, max, runs}: from its
+ * spread when the service repeated the runs, else its single time. */
+export function computeSpread(row) {
+    const s = row.spread && row.spread.compute_ms;
+    const runs = row.runs_ms;
+    if (s && typeof s.median === 'number') {
+        return { median: s.median, min: s.min != null ? s.min : s.median, max: s.max != null ? s.max : s.median, runs: runs };
+    }
+    if (runs && runs.length) {
+        const sorted = runs.slice().sort((a, b) => a - b);
+        const m = sorted.length >> 1;
+        const median = sorted.length % 2 ? sorted[m] : (sorted[m - 1] + sorted[m]) / 2;
+        return { median: median, min: sorted[0], max: sorted[sorted.length - 1], runs: runs };
+    }
+    if (typeof row.compute_ms === 'number') {
+        return { median: row.compute_ms, min: row.compute_ms, max: row.compute_ms, runs: null };
+    }
+    return null;
+}
+
+/* One POST compare of src with opt (algorithm, bounds, repeat, signal),
+ * in the terms this service takes (see known); resolves to the
+ * normalised answer with the raw one in .raw and .repeatDropped when the
+ * service did not take the repeat option. */
 export async function compareOnce(src, opt) {
-    const r = await send('compare', opt, src);
+    const r = await sendKnown('compare', opt, src);
     let j;
     try {
         j = JSON.parse(r.text);
@@ -188,5 +275,6 @@ export async function compareOnce(src, opt) {
     const c = normaliseCompare(j);
     c.raw = j;
     c.roundtrip_ms = r.ms;
+    c.repeatDropped = r.repeatDropped;
     return c;
 }

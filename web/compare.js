@@ -1,18 +1,39 @@
 /* compare.js -- the compare view: the same points through all three
- * algorithms.
+ * algorithms, each run several times.
  *
- * What it does: POSTs compare with the current source, then shows whether
- * the three diagrams are identical, a table of each algorithm's compute
- * time and diagram size, and a bar chart of the times.
+ * What it does: POSTs compare with the current source and the chosen
+ * number of runs per algorithm (repeat; the service runs the three in
+ * rotating order on the same prepared sites), then shows whether the
+ * three diagrams are identical, a table of each algorithm's median
+ * compute time with the fastest and slowest run and the diagram's size,
+ * a bar chart (median bar, min-max whisker, a dot per run) and, when the
+ * service counts its operations, a table of every count it returns, per
+ * algorithm and per site, whatever their names. A service that does not
+ * take repeat gets one run each, and the view says so.
  *
  * Invariants: one compare at a time (jobs.compare); pub.lastCompare is
  * the answer shown.
  */
-import { $, pub, jobs, ALGO_LABEL, ALGO_COLOR, fmtMs, fmtInt } from './util.js';
-import { compareOnce, isAbort } from './api.js';
+import { $, pub, jobs, ALGORITHMS, ALGO_LABEL, ALGO_COLOR, fmtMs, fmtInt } from './util.js';
+import { compareOnce, computeSpread, isAbort } from './api.js';
 import { setStatus, setBusy, showError, clearError } from './status.js';
-import { chartContext } from './charts.js';
-import { requestSource, selectedAlgorithm, clipBounds } from './controls.js';
+import { chartContext, canvasPainter, drawBars as paintBars } from './charts.js';
+import { requestSource, clipBounds } from './controls.js';
+
+/* The runs per algorithm chosen in the panel: a number, or null for the
+ * service's default. */
+export function repeatChoice() {
+    const v = $('repeat').value;
+    return v === '' ? null : Number(v);
+}
+
+/* "median of 5 runs each", "one run each (this service ...)". */
+export function runsNote(c) {
+    if (c.repeatDropped) return 'one run per algorithm: this service does not take repeat';
+    const k = c.repeat || 1;
+    return k > 1 ? 'median of ' + k + ' runs per algorithm, run in rotating order; bars from the fastest to the slowest run'
+        : 'one run per algorithm';
+}
 
 export async function runCompare() {
     if (jobs.compare) return;
@@ -21,7 +42,7 @@ export async function runCompare() {
     $('compare').disabled = true;
     setBusy(true, 'Comparing the three algorithms…');
     try {
-        const c = await compareOnce(requestSource(), { algorithm: selectedAlgorithm(), bounds: clipBounds() });
+        const c = await compareOnce(requestSource(), { bounds: clipBounds(), repeat: repeatChoice() });
         pub.lastCompare = c;
         showCompare(c);
         pub.compareCount++;
@@ -33,6 +54,15 @@ export async function runCompare() {
         $('compare').disabled = !!jobs.sweep;
         setBusy(!!jobs.compute);
     }
+}
+
+function cell(tr, text, cls, header) {
+    const td = document.createElement(header ? 'th' : 'td');
+    if (header) td.scope = 'row';
+    td.textContent = text;
+    if (cls) td.className = cls;
+    tr.appendChild(td);
+    return td;
 }
 
 function showCompare(c) {
@@ -48,57 +78,88 @@ function showCompare(c) {
         agree.appendChild(s);
     }
     agree.dataset.agree = c.agree ? 'yes' : 'no';
+    $('compare-note').textContent = 'Compute time: ' + runsNote(c) + '.';
+
     const tbody = $('compare-table').tBodies[0];
     tbody.textContent = '';
-    const best = Math.min(...c.rows.filter((r) => r.status === 'ok').map((r) => r.compute_ms).filter((v) => v != null));
-    for (const r of c.rows) {
+    const times = c.rows.map(computeSpread);
+    const okTimes = c.rows.map((r, i) => r.status === 'ok' && times[i] ? times[i].median : Infinity);
+    const best = Math.min(...okTimes);
+    c.rows.forEach((r, i) => {
         const tr = document.createElement('tr');
         tr.dataset.algorithm = r.algorithm;
         const failed = r.status !== 'ok';
-        const cells = [ALGO_LABEL[r.algorithm] || r.algorithm, failed ? r.status : fmtMs(r.compute_ms),
-            failed ? '–' : fmtInt(r.vertices), failed ? '–' : fmtInt(r.edges)];
+        const t = times[i];
+        cell(tr, ALGO_LABEL[r.algorithm] || r.algorithm, '', true);
+        const time = cell(tr, failed ? r.status : fmtMs(t && t.median), failed ? 'failed' : (okTimes[i] === best && c.rows.length > 1 ? 'best' : ''));
+        if (!failed && t && t.max > t.min) {
+            /* the fastest and the slowest run, under the median */
+            const spread = document.createElement('small');
+            spread.className = 'spread';
+            spread.textContent = fmtMs(t.min) + ' – ' + fmtMs(t.max);
+            time.appendChild(spread);
+        }
+        if (t && t.runs) time.title = 'runs: ' + t.runs.map(fmtMs).join(', ');
+        cell(tr, failed ? '–' : fmtInt(r.vertices));
+        cell(tr, failed ? '–' : fmtInt(r.edges));
         if (failed) tr.title = r.detail || r.status;
-        if (r.total_ms != null) tr.title = 'total on the server ' + fmtMs(r.total_ms);
-        cells.forEach((text, i) => {
-            const td = document.createElement(i === 0 ? 'th' : 'td');
-            if (i === 0) td.scope = 'row';
-            td.textContent = text;
-            if (i === 1 && !failed && r.compute_ms === best && c.rows.length > 1) td.className = 'best';
-            if (i === 1 && failed) td.className = 'failed';
-            tr.appendChild(td);
-        });
+        else if (r.total_ms != null) tr.title = 'total on the server ' + fmtMs(r.total_ms);
+        tbody.appendChild(tr);
+    });
+    $('compare-table').hidden = false;
+    showCounts(c);
+    drawBars();
+}
+
+/* Every count any algorithm returned, one row each, with the value per
+ * site under it (counts are per run, and deterministic). */
+function showCounts(c) {
+    const table = $('counts-table');
+    const withCounts = c.rows.filter((r) => r.counts && Object.keys(r.counts).length);
+    table.hidden = withCounts.length === 0;
+    if (table.hidden) return;
+    const algs = ALGORITHMS.filter((a) => c.rows.some((r) => r.algorithm === a));
+    const head = table.tHead.rows[0];
+    head.textContent = '';
+    const th = document.createElement('th');
+    th.scope = 'col';
+    th.textContent = 'Count';
+    head.appendChild(th);
+    for (const a of algs) {
+        const h = document.createElement('th');
+        h.scope = 'col';
+        h.textContent = ALGO_LABEL[a] || a;
+        head.appendChild(h);
+    }
+    const names = [];
+    for (const r of withCounts) for (const k of Object.keys(r.counts)) if (!names.includes(k)) names.push(k);
+    const tbody = table.tBodies[0];
+    tbody.textContent = '';
+    const sites = c.n_sites || 0;
+    for (const k of names) {
+        const tr = document.createElement('tr');
+        tr.dataset.count = k;
+        cell(tr, k.replace(/_/g, ' '), '', true);
+        for (const a of algs) {
+            const r = c.rows.find((x) => x.algorithm === a);
+            const v = r && r.counts ? r.counts[k] : undefined;
+            const td = cell(tr, typeof v === 'number' ? fmtInt(v) : '–');
+            if (typeof v === 'number' && sites > 0) {
+                const per = document.createElement('small');
+                per.textContent = (v / sites).toPrecision(3) + ' /site';
+                td.appendChild(per);
+            }
+        }
         tbody.appendChild(tr);
     }
-    $('compare-table').hidden = false;
-    drawBars();
 }
 
 export function drawBars() {
     const g = chartContext($('compare-chart'));
     if (!g) return;
-    const c = g.c;
     const comp = pub.lastCompare;
-    if (!comp || !comp.rows.length) {
-        c.fillStyle = '#8a918f';
-        c.fillText('Press "Compare all three" to time them side by side', 4, g.h / 2);
-        return;
-    }
-    const rows = comp.rows;
-    const left = 10 + Math.max(...rows.map((r) => c.measureText(ALGO_LABEL[r.algorithm] || r.algorithm).width));
-    const right = 70, rowH = Math.min(28, (g.h - 8) / rows.length);
-    const ok = (r) => r.status === 'ok' && typeof r.compute_ms === 'number';
-    const max = Math.max(...rows.map((r) => ok(r) ? r.compute_ms : 0)) || 1;
-    rows.forEach((r, i) => {
-        const y = 4 + i * rowH;
-        const len = ok(r) ? (g.w - left - right) * r.compute_ms / max : 0;
-        c.fillStyle = '#1d2329';
-        c.textAlign = 'right';
-        c.textBaseline = 'middle';
-        c.fillText(ALGO_LABEL[r.algorithm] || r.algorithm, left - 6, y + rowH / 2);
-        c.fillStyle = ALGO_COLOR[r.algorithm] || '#888';
-        if (ok(r)) c.fillRect(left, y + 4, Math.max(1, len), rowH - 8);
-        c.fillStyle = ok(r) ? '#1d2329' : '#a4262c';
-        c.textAlign = 'left';
-        c.fillText(ok(r) ? fmtMs(r.compute_ms) : r.status, left + len + 5, y + rowH / 2);
-    });
+    const rows = comp ? comp.rows.map((r) => ({
+        algorithm: r.algorithm, status: r.status, color: ALGO_COLOR[r.algorithm] || '#888', t: computeSpread(r),
+    })) : [];
+    paintBars(canvasPainter(g.c), g.w, g.h, rows);
 }

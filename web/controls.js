@@ -19,7 +19,9 @@ import {
     $, pub, jobs, ALGO_LABEL, PHASE_COLOR, LITTLE_ENDIAN,
     fmtMs, fmtInt, fmtBytes, roundTo, fmtCoord,
 } from './util.js';
-import { ServiceError, send, buildRequest, isAbort, parseServerTiming, timingOf } from './api.js';
+import {
+    ServiceError, sendKnown, buildRequest, adapt, learn, isAbort, parseServerTiming, timingOf,
+} from './api.js';
 import { fromJson, unreadable, fetchDiagram } from './decode.js';
 import { prepare } from './geometry.js';
 import { setStatus, setBusy, showError, clearError } from './status.js';
@@ -132,14 +134,24 @@ export async function compute(opts) {
         const t0 = performance.now();
         let D, G = null, serverTiming;
         if (binary) {
-            const req = buildRequest('voronoi', Object.assign({}, opt, { signal: undefined }), requestSource());
-            const out = await fetchDiagram(req, abort.signal, true, CELL_COLOURS, prepare);
+            let out;
+            for (let attempt = 0; ; attempt++) {
+                const [src, o] = adapt(requestSource(), opt);
+                try {
+                    out = await fetchDiagram(buildRequest('voronoi', Object.assign({}, o, { signal: undefined }), src),
+                        abort.signal, true, CELL_COLOURS, prepare);
+                    break;
+                } catch (e) {
+                    if (attempt < 2 && learn(e, src, o)) continue;
+                    throw e;
+                }
+            }
             D = out.D;
             G = out.G;
             serverTiming = out.serverTiming;
             pub.decodedIn = out.where;
         } else {
-            const r = await send('voronoi', opt, requestSource());
+            const r = await sendKnown('voronoi', opt, requestSource());
             let res;
             try {
                 res = JSON.parse(r.text);
@@ -406,7 +418,7 @@ async function download(format) {
         $('show-delaunay').checked ? ['triangles'] : [], $('show-clip').checked ? ['clipped'] : []) : null;
     setBusy(true, 'Preparing ' + format.toUpperCase() + '…');
     try {
-        const r = await send('voronoi', {
+        const r = await sendKnown('voronoi', {
             algorithm: selectedAlgorithm(), bounds: clipBounds(), include: include, format: format, blob: true,
         }, requestSource());
         const a = document.createElement('a');

@@ -18,11 +18,11 @@
  *   sweep.js     the size sweep
  *   charts.js    what the charts share
  */
-import { $, jobs } from './util.js';
+import { $ } from './util.js';
 import { resizeCanvas } from './renderer.js';
 import { wireControls, compute } from './controls.js';
 import { runCompare, drawBars } from './compare.js';
-import { runSweep, drawSweep } from './sweep.js';
+import { wireSweep, drawSweep } from './sweep.js';
 
 function redrawAll() {
     resizeCanvas();
@@ -45,8 +45,7 @@ function watchPixelRatio() {
 function start() {
     wireControls();
     $('compare').addEventListener('click', runCompare);
-    $('sweep').addEventListener('click', runSweep);
-    $('sweep-stop').addEventListener('click', () => { if (jobs.sweep) jobs.sweep.abort(); });
+    wireSweep();
     /* the canvas follows its box and the device pixel ratio */
     new ResizeObserver(redrawAll).observe(document.body);
     window.addEventListener('resize', resizeCanvas);

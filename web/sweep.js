@@ -1,148 +1,39 @@
-/* sweep.js -- the size sweep: compute time against N, all three algorithms.
+/* sweep.js -- the size sweep: compute time against N, all three
+ * algorithms, for several distributions at once.
  *
- * What it does: for each N of the list, POSTs compare with the generator
- * of the form (distribution, seed) and that N, without the clip box (it
- * times the algorithms, not the clipping); fills a table row per N and
- * plots the times on log-log axes with each algorithm's fitted exponent.
+ * What it does: for each N of the list and each distribution ticked (the
+ * seed from the form), POSTs compare with the chosen runs per algorithm
+ * and without the clip box (it times the algorithms, not the clipping),
+ * size by size with the distributions interleaved, so that a sweep
+ * stopped early still covers each of them. Each answer adds a table row
+ * (median, fastest-slowest run) and a point with its bar to the log-log
+ * plot. Each (distribution, algorithm) gets the slope of log t on log N
+ * with its 95% interval, fitted only where it means something: sizes of
+ * at least FIT_MIN_N points whose median is at least FIT_MIN_MS (well
+ * above the timer's resolution and the fixed cost of a request), three
+ * sizes at least. Earlier sweeps stay on the plot, faded, and in the
+ * table until Clear. The table exports as CSV, the plot as PNG and SVG.
  *
  * Invariants: one sweep at a time (jobs.sweep holds its AbortController;
- * Stop aborts it); pub.lastSweep is the sweep shown.
+ * Stop aborts it); pub.sweeps lists every sweep kept, pub.lastSweep is
+ * the newest.
  */
-import { $, pub, jobs, ALGORITHMS, ALGO_LABEL, ALGO_COLOR, fmtMs, fmtInt, fmtN, fmtAxisMs } from './util.js';
-import { ServiceError, compareOnce, isAbort } from './api.js';
-import { showError, clearError } from './status.js';
-import { chartContext } from './charts.js';
-import { genParams, selectedAlgorithm } from './controls.js';
+import { $, pub, jobs, ALGORITHMS, ALGO_LABEL, ALGO_COLOR, DIST_LABEL, fmtMs, fmtInt } from './util.js';
+import { ServiceError, compareOnce, computeSpread, isAbort } from './api.js';
+import { showError, clearError, setStatus } from './status.js';
+import {
+    chartContext, canvasPainter, svgPainter, drawLogLog, plotHeight, fitSlope, MARKERS, DASHES,
+} from './charts.js';
+import { genParams } from './controls.js';
+import { repeatChoice, runsNote } from './compare.js';
 
-/* Least-squares slope of log t against log n: the empirical exponent. */
-function slope(pts) {
-    if (pts.length < 2) return null;
-    let sx = 0, sy = 0, sxx = 0, sxy = 0;
-    for (const p of pts) {
-        const x = Math.log(p[0]), y = Math.log(p[1]);
-        sx += x; sy += y; sxx += x * x; sxy += x * y;
-    }
-    const n = pts.length, den = n * sxx - sx * sx;
-    return den > 0 ? (n * sxy - sx * sy) / den : null;
-}
+export const FIT_MIN_N = 1000;
+export const FIT_MIN_MS = 1;
+const AXES_HEIGHT = 240;
+const SHORT = { fortune: 'Fortune', 'bowyer-watson': 'B–W', flip: 'Flip' };
 
-export function drawSweep() {
-    const g = chartContext($('sweep-chart'));
-    if (!g) return;
-    const c = g.c;
-    const sw = pub.lastSweep;
-    const series = {};
-    for (const a of ALGORITHMS) series[a] = [];
-    if (sw) {
-        for (const row of sw.rows) {
-            for (const a of ALGORITHMS) {
-                const v = row.ms[a];
-                if (v != null && v > 0) series[a].push([row.n, v]);
-            }
-        }
-    }
-    const all = ALGORITHMS.flatMap((a) => series[a]);
-    const L = 50, R = 18, T = 10, B = 38;
-    const pw = g.w - L - R, ph = g.h - T - B;
-    if (!all.length) {
-        c.strokeStyle = '#cfd2ca';
-        c.strokeRect(L + 0.5, T + 0.5, pw, ph);
-        c.fillStyle = '#8a918f';
-        c.textAlign = 'center';
-        c.fillText('Run a sweep to plot time against N', L + pw / 2, T + ph / 2);
-        return;
-    }
-    const lx0 = Math.floor(Math.log10(Math.min(...all.map((p) => p[0]))));
-    let lx1 = Math.ceil(Math.log10(Math.max(...all.map((p) => p[0]))));
-    const ly0 = Math.floor(Math.log10(Math.min(...all.map((p) => p[1]))));
-    let ly1 = Math.ceil(Math.log10(Math.max(...all.map((p) => p[1]))));
-    if (lx1 <= lx0) lx1 = lx0 + 1;
-    if (ly1 <= ly0) ly1 = ly0 + 1;
-    const X = (n) => L + pw * (Math.log10(n) - lx0) / (lx1 - lx0);
-    const Y = (t) => T + ph - ph * (Math.log10(t) - ly0) / (ly1 - ly0);
-
-    /* grid: decades strong, 2 and 5 faint */
-    c.lineWidth = 1;
-    for (let e = lx0; e <= lx1; e++) {
-        for (const m of [1, 2, 5]) {
-            const v = m * Math.pow(10, e);
-            if (Math.log10(v) > lx1 + 1e-9) continue;
-            const x = Math.round(X(v)) + 0.5;
-            c.strokeStyle = m === 1 ? '#d6d9d2' : '#eeefeb';
-            c.beginPath(); c.moveTo(x, T); c.lineTo(x, T + ph); c.stroke();
-            if (m === 1 || lx1 - lx0 <= 2) {
-                c.fillStyle = '#5d6670';
-                c.textAlign = 'center';
-                c.textBaseline = 'top';
-                c.fillText(fmtN(v), x, T + ph + 4);
-            }
-        }
-    }
-    for (let e = ly0; e <= ly1; e++) {
-        for (const m of [1, 2, 5]) {
-            const v = m * Math.pow(10, e);
-            if (Math.log10(v) > ly1 + 1e-9) continue;
-            const y = Math.round(Y(v)) + 0.5;
-            c.strokeStyle = m === 1 ? '#d6d9d2' : '#eeefeb';
-            c.beginPath(); c.moveTo(L, y); c.lineTo(L + pw, y); c.stroke();
-            if (m === 1 || ly1 - ly0 <= 2) {
-                c.fillStyle = '#5d6670';
-                c.textAlign = 'right';
-                c.textBaseline = 'middle';
-                c.fillText(fmtAxisMs(v), L - 5, y);
-            }
-        }
-    }
-    c.strokeStyle = '#9aa19a';
-    c.strokeRect(L + 0.5, T + 0.5, pw, ph);
-    c.fillStyle = '#1d2329';
-    c.textAlign = 'center';
-    c.textBaseline = 'bottom';
-    c.fillText('N (points), log scale', L + pw / 2, g.h - 1);
-    c.save();
-    c.translate(12, T + ph / 2);
-    c.rotate(-Math.PI / 2);
-    c.textBaseline = 'middle';
-    c.fillText('compute time (ms), log scale', 0, 0);
-    c.restore();
-
-    /* series */
-    c.save();
-    c.beginPath();
-    c.rect(L, T, pw, ph);
-    c.clip();
-    for (const a of ALGORITHMS) {
-        const s = series[a];
-        if (!s.length) continue;
-        c.strokeStyle = c.fillStyle = ALGO_COLOR[a];
-        c.lineWidth = 2;
-        c.beginPath();
-        s.forEach((p, i) => (i ? c.lineTo(X(p[0]), Y(p[1])) : c.moveTo(X(p[0]), Y(p[1]))));
-        c.stroke();
-        for (const p of s) {
-            c.beginPath();
-            c.arc(X(p[0]), Y(p[1]), 3, 0, 2 * Math.PI);
-            c.fill();
-        }
-    }
-    c.restore();
-
-    /* legend with the fitted exponent */
-    c.font = '11px system-ui, sans-serif';
-    c.textAlign = 'left';
-    c.textBaseline = 'middle';
-    const lw = 150, lh = 16 * ALGORITHMS.length + 6;
-    c.fillStyle = 'rgba(255, 255, 255, 0.88)';
-    c.fillRect(L + 6, T + 6, lw, lh);
-    ALGORITHMS.forEach((a, i) => {
-        const y = T + 14 + i * 16;
-        c.fillStyle = ALGO_COLOR[a];
-        c.fillRect(L + 12, y - 4, 14, 8);
-        c.fillStyle = '#1d2329';
-        const k = slope(series[a]);
-        c.fillText(ALGO_LABEL[a] + (k != null ? '  slope ' + k.toFixed(2) : ''), L + 32, y);
-    });
-}
+const sweeps = [];
+pub.sweeps = sweeps;
 
 function parseSizes(text) {
     const sizes = text.split(/[\s,;]+/).filter(Boolean).map((s) => {
@@ -152,6 +43,19 @@ function parseSizes(text) {
     });
     if (!sizes.length || sizes.some((n) => !(n >= 1))) return null;
     return Array.from(new Set(sizes)).sort((a, b) => a - b);
+}
+
+function checkedDistributions() {
+    return Array.from(document.querySelectorAll('input[name=sweep-dist]:checked')).map((el) => el.value);
+}
+
+function setButtons() {
+    const running = !!jobs.sweep, any = sweeps.some((s) => s.rows.length);
+    $('sweep').disabled = running;
+    $('sweep-stop').disabled = !running;
+    $('sweep-clear').disabled = running || !sweeps.length;
+    for (const id of ['sweep-csv', 'sweep-png', 'sweep-svg']) $(id).disabled = !any;
+    $('compare').disabled = running || jobs.compare;
 }
 
 export async function runSweep() {
@@ -165,58 +69,272 @@ export async function runSweep() {
         }));
         return;
     }
-    const g = genParams();
+    let dists = checkedDistributions();
+    if (!dists.length) dists = [genParams().distribution];
+    const seed = genParams().seed;
+    const repeat = repeatChoice();
     const abort = new AbortController();
     jobs.sweep = abort;
-    $('sweep').disabled = true;
-    $('compare').disabled = true;
-    $('sweep-stop').disabled = false;
-    const sw = { distribution: g.distribution, seed: g.seed, rows: [], done: false };
+    const sw = {
+        id: sweeps.length ? sweeps[sweeps.length - 1].id + 1 : 1,
+        seed: seed, repeat: repeat, distributions: dists, sizes: sizes,
+        rows: [], failed: {}, done: false, repeatDropped: false,
+    };
+    sweeps.push(sw);
     pub.lastSweep = sw;
-    const tbody = $('sweep-table').tBodies[0];
-    tbody.textContent = '';
+    setButtons();
     $('sweep-table').hidden = false;
     drawSweep();
+    const total = sizes.length * dists.length;
+    let count = 0;
     try {
-        for (let i = 0; i < sizes.length; i++) {
-            const n = sizes[i];
-            $('sweep-status').textContent = 'N = ' + fmtInt(n) + ' (' + (i + 1) + ' of ' + sizes.length + ')…';
-            const c = await compareOnce({ kind: 'gen', generate: { distribution: g.distribution, n: n, seed: g.seed } },
-                { algorithm: selectedAlgorithm(), signal: abort.signal });
-            const ms = {};
-            const status = {};
-            for (const r of c.rows) {
-                ms[r.algorithm] = r.status === 'ok' ? r.compute_ms : null;
-                status[r.algorithm] = r.status;
+        for (const n of sizes) {
+            for (const d of dists) {
+                count++;
+                if (sw.failed[d]) continue;
+                $('sweep-status').textContent = DIST_LABEL[d] + ', N = ' + fmtInt(n) + ' (' + count + ' of ' + total + ')…';
+                let c;
+                try {
+                    c = await compareOnce({ kind: 'gen', generate: { distribution: d, n: n, seed: seed } },
+                        { repeat: repeat, signal: abort.signal });
+                } catch (e) {
+                    /* a distribution this service does not generate: the
+                     * others go on */
+                    if (e instanceof ServiceError && e.problem.status === 422 && /distribution/.test(e.problem.pointer || '')) {
+                        sw.failed[d] = e.problem.detail || e.problem.title;
+                        continue;
+                    }
+                    throw e;
+                }
+                const row = { distribution: d, n: n, agree: c.agree, repeat: c.repeat, times: {}, status: {}, counts: {} };
+                for (const r of c.rows) {
+                    row.status[r.algorithm] = r.status;
+                    row.times[r.algorithm] = r.status === 'ok' ? computeSpread(r) : null;
+                    if (r.counts) row.counts[r.algorithm] = r.counts;
+                }
+                /* the medians by algorithm, as a table shows them */
+                row.ms = {};
+                for (const a of ALGORITHMS) row.ms[a] = row.times[a] ? row.times[a].median : null;
+                if (c.repeatDropped) sw.repeatDropped = true;
+                sw.rows.push(row);
+                showTable();
+                drawSweep();
+                setButtons();
             }
-            sw.rows.push({ n: n, ms: ms, status: status, agree: c.agree });
-            const tr = document.createElement('tr');
-            const cells = [fmtInt(n)].concat(ALGORITHMS.map((a) => ms[a] != null ? fmtMs(ms[a]) : (status[a] || '–')),
-                [c.agree ? 'yes' : 'NO']);
-            cells.forEach((text, j) => {
-                const td = document.createElement(j === 0 ? 'th' : 'td');
-                if (j === 0) td.scope = 'row';
-                td.textContent = text;
-                tr.appendChild(td);
-            });
-            tbody.appendChild(tr);
-            drawSweep();
         }
         sw.done = true;
         pub.sweepCount++;
-        $('sweep-status').textContent = 'Done: ' + g.distribution + ', seed ' + g.seed + ', ' + sizes.length + ' sizes' +
-            (sw.rows.every((r) => r.agree) ? '; all diagrams agree.' : '; some diagrams differ!');
+        const failed = Object.keys(sw.failed);
+        $('sweep-status').textContent = 'Done: ' + sw.rows.length + ' comparisons, ' + dists.filter((d) => !sw.failed[d]).length +
+            ' distribution(s), seed ' + seed + '; ' + runsNote({ repeat: sw.rows.length ? sw.rows[0].repeat : repeat, repeatDropped: sw.repeatDropped }) +
+            (sw.rows.every((r) => r.agree) ? '; all diagrams agree.' : '; some diagrams differ!') +
+            (failed.length ? ' Not generated by this service: ' + failed.join(', ') + '.' : '');
+        setStatus('Sweep done');
     } catch (e) {
         if (isAbort(e)) {
-            $('sweep-status').textContent = 'Stopped after ' + sw.rows.length + ' of ' + sizes.length + ' sizes.';
+            $('sweep-status').textContent = 'Stopped after ' + sw.rows.length + ' of ' + total + ' comparisons.';
         } else {
             $('sweep-status').textContent = 'Stopped by an error.';
             showError(e);
         }
     } finally {
         jobs.sweep = null;
-        $('sweep').disabled = false;
-        $('compare').disabled = jobs.compare;
-        $('sweep-stop').disabled = true;
+        setButtons();
+        showTable();
+        drawSweep();
     }
+}
+
+export function stopSweep() {
+    if (jobs.sweep) jobs.sweep.abort();
+}
+
+export function clearSweeps() {
+    if (jobs.sweep) return;
+    sweeps.length = 0;
+    pub.lastSweep = null;
+    $('sweep-status').textContent = '';
+    showTable();
+    drawSweep();
+    setButtons();
+}
+
+/* ---- table ---------------------------------------------------------------- */
+
+function showTable() {
+    const table = $('sweep-table');
+    const tbody = table.tBodies[0];
+    tbody.textContent = '';
+    table.hidden = !sweeps.length;
+    for (const sw of sweeps) {
+        const head = document.createElement('tr');
+        head.className = 'run';
+        const th = document.createElement('th');
+        th.colSpan = 6;
+        th.scope = 'rowgroup';
+        th.textContent = 'Sweep ' + sw.id + ': seed ' + sw.seed + ', ' +
+            (sw.repeatDropped ? 'one run each' : (sw.rows.length && sw.rows[0].repeat ? sw.rows[0].repeat + ' runs each'
+                : (sw.repeat ? sw.repeat + ' runs each' : 'runs: service default'))) +
+            (sw === sweeps[sweeps.length - 1] ? '' : ' (faded on the plot)');
+        head.appendChild(th);
+        tbody.appendChild(head);
+        for (const r of sw.rows) {
+            const tr = document.createElement('tr');
+            tr.dataset.sweep = sw.id;
+            tr.dataset.distribution = r.distribution;
+            tr.dataset.n = r.n;
+            const td0 = document.createElement('td');
+            td0.textContent = DIST_LABEL[r.distribution] || r.distribution;
+            tr.appendChild(td0);
+            const tn = document.createElement('th');
+            tn.scope = 'row';
+            tn.textContent = fmtInt(r.n);
+            tr.appendChild(tn);
+            for (const a of ALGORITHMS) {
+                const td = document.createElement('td');
+                const t = r.times[a];
+                if (t) {
+                    td.append(fmtMs(t.median));
+                    if (t.max > t.min) {
+                        const s = document.createElement('small');
+                        s.textContent = fmtMs(t.min) + '–' + fmtMs(t.max);
+                        td.appendChild(s);
+                    }
+                } else {
+                    td.textContent = r.status[a] || '–';
+                    td.className = 'failed';
+                }
+                tr.appendChild(td);
+            }
+            const ta = document.createElement('td');
+            ta.textContent = r.agree ? 'yes' : 'NO';
+            if (!r.agree) ta.className = 'failed';
+            tr.appendChild(ta);
+            tbody.appendChild(tr);
+        }
+    }
+}
+
+/* ---- plot ----------------------------------------------------------------- */
+
+/* The plot's series: one per sweep, distribution and algorithm; the
+ * newest sweep's in full colour and in the legend. */
+function buildSeries() {
+    const series = [];
+    const dists = [];
+    for (const sw of sweeps) for (const d of sw.distributions) if (!dists.includes(d)) dists.push(d);
+    sweeps.forEach((sw, k) => {
+        const newest = k === sweeps.length - 1;
+        for (const d of sw.distributions) {
+            const di = dists.indexOf(d);
+            for (const a of ALGORITHMS) {
+                const points = sw.rows.filter((r) => r.distribution === d && r.times[a] && r.times[a].median > 0)
+                    .map((r) => ({ n: r.n, median: r.times[a].median, min: r.times[a].min, max: r.times[a].max }));
+                if (!points.length) continue;
+                const usable = points.filter((q) => q.n >= FIT_MIN_N && q.median >= FIT_MIN_MS);
+                const fit = fitSlope(usable.map((q) => [q.n, q.median]));
+                series.push({
+                    label: (sweeps.length > 1 ? '#' + sw.id + ' ' : '') + (DIST_LABEL[d] || d) + ' · ' + SHORT[a],
+                    distribution: d, algorithm: a, sweep: sw.id,
+                    color: ALGO_COLOR[a], marker: MARKERS[di % MARKERS.length], dash: DASHES[di % DASHES.length],
+                    alpha: newest ? 1 : 0.3, legend: newest, points: points, fit: fit,
+                    why: fit ? '' : 'no slope: ' + usable.length + ' of 3 sizes needed with N ≥ ' + fmtInt(FIT_MIN_N) +
+                        ' and t ≥ ' + FIT_MIN_MS + ' ms',
+                });
+            }
+        }
+    });
+    return series;
+}
+
+const EMPTY = 'Run a sweep to plot time against N';
+
+export function drawSweep() {
+    const cv = $('sweep-chart');
+    const series = buildSeries();
+    pub.sweepSeries = series.map((s) => ({
+        label: s.label, distribution: s.distribution, algorithm: s.algorithm, sweep: s.sweep, points: s.points.length,
+        fit: s.fit ? { slope: s.fit.slope, ci: s.fit.ci, sizes: s.fit.m, n0: s.fit.n0, n1: s.fit.n1 } : null,
+    }));
+    const w = cv.clientWidth;
+    if (!w) return;
+    cv.style.height = plotHeight(w, series, AXES_HEIGHT) + 'px';
+    const g = chartContext(cv);
+    if (!g) return;
+    drawLogLog(canvasPainter(g.c), g.w, g.h, series, AXES_HEIGHT, EMPTY);
+}
+
+/* ---- export --------------------------------------------------------------- */
+
+function save(blob, name) {
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = name;
+    document.body.appendChild(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+    pub.downloadCount++;
+}
+
+/* One line per sweep, distribution, N and algorithm. */
+export function sweepCsv() {
+    const lines = ['sweep,distribution,seed,repeat,n,algorithm,status,median_ms,min_ms,max_ms,runs_ms,agree'];
+    for (const sw of sweeps) {
+        for (const r of sw.rows) {
+            for (const a of ALGORITHMS) {
+                const t = r.times[a];
+                const repeat = sw.repeatDropped ? 1 : (r.repeat || '');
+                lines.push([sw.id, r.distribution, sw.seed, repeat, r.n, a, r.status[a] || '',
+                    t ? t.median : '', t ? t.min : '', t ? t.max : '', t && t.runs ? t.runs.join(';') : '',
+                    r.agree ? 'yes' : 'no'].join(','));
+            }
+        }
+    }
+    return lines.join('\n') + '\n';
+}
+
+function exportCsv() {
+    save(new Blob([sweepCsv()], { type: 'text/csv' }), 'voronoid-sweep.csv');
+}
+
+function exportSize() {
+    const cv = $('sweep-chart');
+    return { w: Math.max(cv.clientWidth, 560), h: plotHeight(cv.clientWidth, buildSeries(), AXES_HEIGHT) };
+}
+
+function exportPng() {
+    const { w, h } = exportSize();
+    const scale = 2;
+    const c = document.createElement('canvas');
+    c.width = w * scale;
+    c.height = h * scale;
+    const g = c.getContext('2d');
+    g.setTransform(scale, 0, 0, scale, 0, 0);
+    g.fillStyle = '#ffffff';
+    g.fillRect(0, 0, w, h);
+    drawLogLog(canvasPainter(g), w, h, buildSeries(), AXES_HEIGHT, EMPTY);
+    c.toBlob((blob) => { if (blob) save(blob, 'voronoid-sweep.png'); }, 'image/png');
+}
+
+function exportSvg() {
+    const { w, h } = exportSize();
+    const p = svgPainter();
+    drawLogLog(p, w, h, buildSeries(), AXES_HEIGHT, EMPTY);
+    save(new Blob([p.svg(w, h)], { type: 'image/svg+xml' }), 'voronoid-sweep.svg');
+}
+
+export function wireSweep() {
+    $('sweep').addEventListener('click', runSweep);
+    $('sweep-stop').addEventListener('click', stopSweep);
+    $('sweep-clear').addEventListener('click', clearSweeps);
+    $('sweep-csv').addEventListener('click', exportCsv);
+    $('sweep-png').addEventListener('click', exportPng);
+    $('sweep-svg').addEventListener('click', exportSvg);
+    /* the form's distribution is ticked by default */
+    $('distribution').addEventListener('change', () => {
+        if (jobs.sweep || sweeps.length) return;
+        for (const el of document.querySelectorAll('input[name=sweep-dist]')) el.checked = el.value === $('distribution').value;
+    });
+    setButtons();
 }

@@ -22,6 +22,21 @@ export const ALGO_COLOR = {
     'bowyer-watson': '#d9730d',
     flip: '#2e8b57',
 };
+/* The generators of the service (one name everywhere: API, command line,
+ * page, bench), with how the page describes them. */
+export const DISTRIBUTIONS = [
+    ['uniform', 'uniform', 'unit square'],
+    ['gaussian', 'gaussian', 'N(0,1) per axis'],
+    ['pixels', 'pixels', 'integer pixels of an 800x600 window, with duplicates'],
+    ['grid', 'grid', 'a square grid'],
+    ['circle', 'circle', 'points on a circle'],
+    ['clustered', 'clustered', 'gaussian clusters'],
+    ['lognormal', 'lognormal', 'exp(2 N(0,1)) per axis, heavy-tailed'],
+    ['outlier', 'outlier', 'a 0.1 x 0.1 city and one point at (0, 0)'],
+    ['decades', 'decades', '|x|, |y| log-uniform over twelve decades'],
+];
+export const DIST_LABEL = Object.fromEntries(DISTRIBUTIONS.map((d) => [d[0], d[1]]));
+
 export const PHASE_COLOR = {
     queue: '#9aa5b1',
     parse: '#5b8def',

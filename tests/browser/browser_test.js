@@ -5,8 +5,12 @@
  * GET / in Debian's Chromium (through playwright-core, headless, a fresh
  * profile) and acts as a person would: generates points and computes with
  * each algorithm, uploads a CSV file and a broken one, drops a JSON file,
- * clicks points in, pans and zooms, compares the three algorithms, runs a
- * small size sweep, downloads an SVG, draws 10^5 points and then 10^6
+ * clicks points in, pans and zooms, changes N and seed (recomputed, or
+ * marked out of date), compares the three algorithms (an answer shaped as
+ * the contract says, with repeat, spread, runs and counts, and the
+ * service's own, with or without repeat), runs a sweep of two
+ * distributions and exports it as CSV, PNG and SVG, downloads the
+ * diagram, lays the page out on a phone, draws 10^5 points and then 10^6
  * with every layer on while typing and dragging (the long tasks the
  * browser reports are printed, never judged: the test asserts that input
  * was handled while the frame was being drawn). Each step asserts on what
@@ -569,15 +573,76 @@ async function main() {
             assert(await page.locator('#stale').isHidden() && !(await page.evaluate(() => window.voronoid.stale)), 'still marked stale');
         });
 
-        await step('compare runs all three algorithms and they agree', async () => {
+        await step('compare shows each algorithm\'s median, spread, runs and counts (contract answer)', async () => {
+            /* an answer shaped as the contract says (openapi.yaml,
+             * names.md): repeat, spread per phase, runs_ms, counts */
+            let sent = null;
+            const answer = {
+                n_input: 1000, n_sites: 1000, agree: true, disagreement: null, repeat: 5,
+                algorithms: [
+                    ['fortune', 2.5, 2.25, 3.5, [2.5, 2.25, 3.5, 2.4, 2.6], { site_events: 1000, circle_events: 2400, false_alarms: 410, beach_max: 61 }],
+                    ['bowyer-watson', 1.5, 1.25, 4.75, [1.5, 4.75, 1.25, 1.4, 1.6], { orient2d: 12000, incircle: 9000, walk_steps: 5300 }],
+                    ['flip', 1.75, 1.5, 2, [1.75, 1.5, 2, 1.7, 1.8], { orient2d: 11000, flips: 2900 }],
+                ].map(([alg, med, min, max, runs, counts]) => ({
+                    algorithm: alg, status: 'ok', n_vertices: 1978, n_edges: 2977, n_rays: 20,
+                    timings: { queue_ms: 0, parse_ms: 0, prepare_ms: 0.02, compute_ms: med, clip_ms: 0, serialize_ms: 0, total_ms: med + 0.1 },
+                    spread: { compute_ms: { median: med, min: min, max: max }, total_ms: { median: med + 0.1, min: min + 0.1, max: max + 0.1 } },
+                    runs_ms: runs, counts: counts,
+                })),
+                timings: { queue_ms: 0, parse_ms: 0.02, prepare_ms: 0, compute_ms: 0, clip_ms: 0, serialize_ms: 0, total_ms: 30 },
+            };
+            await page.route('**/compare', async (route) => {
+                sent = route.request().postDataJSON();
+                await route.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(answer) });
+            });
+            try {
+                await page.selectOption('#repeat', '5');
+                const before = await state(page);
+                await page.click('#compare');
+                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            } finally {
+                await page.unroute('**/compare');
+            }
+            assert(sent && sent.repeat === 5 && sent.generate, 'the request did not ask for 5 runs: ' + JSON.stringify(sent));
+            /* the median, and under it the fastest and slowest run */
+            const rows = await page.locator('#compare-table tbody tr').evaluateAll((trs) => trs.map((tr) =>
+                [tr.cells[1].firstChild.textContent, (tr.cells[1].querySelector('.spread') || {}).textContent]));
+            assert(rows.length === 3, 'rows ' + JSON.stringify(rows));
+            assert(rows[0][0] === '2.50 ms' && rows[0][1] === '2.25 ms – 3.50 ms', 'Fortune: ' + rows[0].join(' | '));
+            assert(rows[1][0] === '1.50 ms' && rows[1][1] === '1.25 ms – 4.75 ms', 'Bowyer–Watson: ' + rows[1].join(' | '));
+            assert(rows[2][0] === '1.75 ms' && rows[2][1] === '1.50 ms – 2.00 ms', 'Flipping: ' + rows[2].join(' | '));
+            assert(await page.locator('#compare-table td.best').evaluate((td) => td.firstChild.textContent) === '1.50 ms',
+                'fastest median not marked');
+            assert(/median of 5 runs/.test(await text(page, '#compare-note')), 'note: ' + await text(page, '#compare-note'));
+            /* every count of every algorithm, named as the service names it */
+            const counts = await page.locator('#counts-table tbody tr').evaluateAll((trs) => trs.map((tr) =>
+                [tr.dataset.count].concat(Array.from(tr.cells).slice(1).map((c) => c.textContent.trim()))));
+            const names = counts.map((r) => r[0]);
+            for (const k of ['site_events', 'circle_events', 'false_alarms', 'beach_max', 'orient2d', 'incircle', 'walk_steps', 'flips']) {
+                assert(names.includes(k), 'count ' + k + ' not shown: ' + names.join(', '));
+            }
+            const orient = counts.find((r) => r[0] === 'orient2d');
+            assert(orient[1] === '–' && orient[2] === '12,00012.0 /site' && orient[3] === '11,00011.0 /site', 'orient2d row ' + orient.join(' | '));
+            const bars = await canvasPixels(page, 'compare-chart');
+            assert(bars.colour > 300, 'the bar chart is empty (' + bars.colour + ' coloured pixels)');
+            await page.locator('aside.analysis').screenshot({ path: path.join(OUT, 'compare-spread.png') });
+        });
+
+        await step('compare runs all three algorithms on the service and they agree', async () => {
             await page.fill('#n', '1000');
             await page.fill('#seed', '7');
             let before = await state(page);
             await page.click('#generate');
             await waitComputed(page, before);
-            before = await state(page);
-            await page.click('#compare');
-            await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            await page.selectOption('#repeat', '3');
+            allowHttpErrors++; /* a service without repeat answers 400 once */
+            try {
+                before = await state(page);
+                await page.click('#compare');
+                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
             const c = await page.evaluate(() => window.voronoid.lastCompare);
             assert(c, 'no compare result: ' + JSON.stringify((await state(page)).lastError));
             const rows = await page.locator('#compare-table tbody tr').count();
@@ -589,28 +654,139 @@ async function main() {
             assert(c.agree === true, 'the algorithms disagree: ' + c.disagreement);
             const agree = await text(page, '#agree');
             assert(/identical/.test(agree), 'agreement line "' + agree + '"');
+            const note = await text(page, '#compare-note');
+            if (c.repeatDropped) {
+                /* an older service: one run each, and the page says so */
+                assert(/does not take repeat/.test(note), 'note: ' + note);
+                console.log('     this service does not take repeat: one run per algorithm');
+            } else {
+                assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
+                for (const r of c.rows) {
+                    const t = r.spread && r.spread.compute_ms;
+                    assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
+                    assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
+                }
+                assert(/median of 3 runs/.test(note), 'note: ' + note);
+                /* three runs of real timings: a spread under each median (or
+                 * none where all three took the same time) */
+                const spreads = await page.locator('#compare-table .spread').allInnerTexts();
+                assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
+            }
             const cells = await page.locator('#compare-table tbody td').allInnerTexts();
             assert(cells.filter((t) => TIME_RE.test(t.trim())).length >= 3, 'times in the table: ' + cells.join(' | '));
             const bars = await canvasPixels(page, 'compare-chart');
             assert(bars.colour > 300, 'the bar chart is empty (' + bars.colour + ' coloured pixels)');
         });
 
-        await step('a size sweep fills the table and the log-log plot', async () => {
-            await page.fill('#sweep-sizes', '500, 1000, 2000, 4000');
+        await step('the sweep fits slopes only where they mean something (oracle)', async () => {
+            /* the page's fit against the same least squares done here */
+            const pts = [[1000, 1.1], [2000, 2.3], [5000, 5.2], [10000, 11.5], [20000, 22.0]];
+            const got = await page.evaluate((p) => import('./charts.js').then((m) => [m.fitSlope(p), m.fitSlope(p.slice(0, 2))]), pts);
+            const xs = pts.map((q) => Math.log(q[0])), ys = pts.map((q) => Math.log(q[1]));
+            const mx = xs.reduce((a, b) => a + b) / 5, my = ys.reduce((a, b) => a + b) / 5;
+            const sxx = xs.reduce((a, x) => a + (x - mx) ** 2, 0);
+            const slope = xs.reduce((a, x, i) => a + (x - mx) * (ys[i] - my), 0) / sxx;
+            const ssr = xs.reduce((a, x, i) => a + (ys[i] - (my + slope * (x - mx))) ** 2, 0);
+            const ci = 3.182 * Math.sqrt(ssr / 3 / sxx); /* Student's t, 3 degrees of freedom, 95% */
+            assert(Math.abs(got[0].slope - slope) < 1e-12 && Math.abs(got[0].ci - ci) < 1e-12 && got[0].m === 5,
+                'fit ' + JSON.stringify(got[0]) + ', expected slope ' + slope + ' ± ' + ci);
+            assert(got[1] === null, 'two sizes gave a slope: ' + JSON.stringify(got[1]));
+        });
+
+        await step('a sweep of two distributions: table, plot with spread and slopes, CSV, PNG and SVG', async () => {
+            await page.selectOption('#repeat', '3');
+            for (const el of await page.locator('input[name=sweep-dist]').all()) await el.uncheck();
+            await page.check('input[name=sweep-dist][value=uniform]');
+            await page.check('input[name=sweep-dist][value=gaussian]');
+            await page.fill('#sweep-sizes', '500, 1000, 2000, 5000, 10000, 20000');
             const before = await state(page);
-            await page.click('#sweep');
-            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
+            allowHttpErrors++;
+            try {
+                await page.click('#sweep');
+                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
             const sw = await page.evaluate(() => window.voronoid.lastSweep);
             assert(sw && sw.done, 'the sweep did not finish: ' + JSON.stringify((await state(page)).lastError));
-            assert(sw.rows.map((r) => r.n).join() === '500,1000,2000,4000', 'sizes ' + sw.rows.map((r) => r.n));
+            /* sizes in order, the two distributions interleaved at each */
+            assert(sw.rows.map((r) => r.distribution[0] + r.n).join() ===
+                'u500,g500,u1000,g1000,u2000,g2000,u5000,g5000,u10000,g10000,u20000,g20000', 'rows ' + sw.rows.map((r) => r.distribution + r.n));
             for (const r of sw.rows) {
-                for (const a of ALGORITHMS) assert(typeof r.ms[a] === 'number', 'N=' + r.n + ' ' + a + ': ' + r.status[a]);
-                assert(r.agree, 'N=' + r.n + ': the algorithms disagree');
+                for (const a of ALGORITHMS) {
+                    const t = r.times[a];
+                    assert(t && t.min <= t.median && t.median <= t.max, r.distribution + ' ' + r.n + ' ' + a + ': ' + JSON.stringify(t));
+                    if (!sw.repeatDropped) assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
+                }
+                assert(r.agree, r.distribution + ' N=' + r.n + ': the algorithms disagree');
             }
-            assert(await page.locator('#sweep-table tbody tr').count() === 4, 'sweep table rows');
+            assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 12, 'sweep table rows');
+            /* a slope exactly where three sizes have N >= 1000 and t >= 1 ms */
+            const series = await page.evaluate(() => window.voronoid.sweepSeries);
+            assert(series.length === 6, series.length + ' series');
+            for (const s of series) {
+                const usable = sw.rows.filter((r) => r.distribution === s.distribution && r.n >= 1000 && r.times[s.algorithm].median >= 1);
+                if (usable.length >= 3) {
+                    assert(s.fit && s.fit.sizes === usable.length && s.fit.n0 >= 1000 && s.fit.ci >= 0,
+                        s.label + ': fit ' + JSON.stringify(s.fit) + ' over ' + usable.length + ' usable sizes');
+                } else {
+                    assert(s.fit === null, s.label + ': a slope from ' + usable.length + ' usable sizes');
+                }
+            }
             const plot = await canvasPixels(page, 'sweep-chart');
             assert(plot.colour > 300, 'the sweep plot has no coloured series (' + plot.colour + ')');
-            await page.screenshot({ path: path.join(OUT, 'page.png'), fullPage: true });
+            await page.locator('section[aria-labelledby=sweep-h]').screenshot({ path: path.join(OUT, 'sweep.png') });
+
+            const download = async (id) => {
+                const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#' + id)]);
+                return { name: dl.suggestedFilename(), data: fs.readFileSync(await dl.path()) };
+            };
+            const csv = await download('sweep-csv');
+            assert(csv.name.endsWith('.csv'), 'CSV file name ' + csv.name);
+            const lines = csv.data.toString('utf8').trim().split('\n');
+            const head = lines[0].split(',');
+            assert(head.join() === 'sweep,distribution,seed,repeat,n,algorithm,status,median_ms,min_ms,max_ms,runs_ms,agree', 'CSV header ' + lines[0]);
+            assert(lines.length === 1 + 12 * 3, lines.length - 1 + ' CSV lines');
+            for (const line of lines.slice(1)) {
+                const f = Object.fromEntries(line.split(',').map((v, i) => [head[i], v]));
+                const row = sw.rows.find((r) => r.distribution === f.distribution && r.n === Number(f.n));
+                assert(row, 'CSV line for no row: ' + line);
+                const t = row.times[f.algorithm];
+                assert(Number(f.median_ms) === t.median && Number(f.min_ms) === t.min && Number(f.max_ms) === t.max,
+                    'CSV line ' + line + ' against ' + JSON.stringify(t));
+                if (!sw.repeatDropped) assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
+                assert(f.status === 'ok' && f.agree === 'yes' && f.seed === String(sw.seed), 'CSV line ' + line);
+            }
+            const png = await download('sweep-png');
+            assert(png.name.endsWith('.png') && png.data.slice(1, 4).toString() === 'PNG' && png.data.length > 5000,
+                'PNG export: ' + png.name + ', ' + png.data.length + ' bytes');
+            const svg = await download('sweep-svg');
+            const svgText = svg.data.toString('utf8');
+            assert(svg.name.endsWith('.svg') && /<svg[\s>]/.test(svgText), 'SVG export ' + svg.name);
+            assert((svgText.match(/<polyline/g) || []).length >= 6, 'SVG export: ' + (svgText.match(/<polyline/g) || []).length + ' series lines');
+            assert(/uniform · Fortune/.test(svgText) && /gaussian · Flip/.test(svgText), 'SVG export without the legend');
+            fs.writeFileSync(path.join(OUT, 'sweep-export.svg'), svgText);
+            fs.writeFileSync(path.join(OUT, 'sweep-export.png'), png.data);
+
+            /* a second sweep is added, the first stays until Clear */
+            await page.uncheck('input[name=sweep-dist][value=gaussian]');
+            await page.fill('#sweep-sizes', '1000, 2000');
+            const b2 = await state(page);
+            allowHttpErrors++;
+            try {
+                await page.click('#sweep');
+                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
+            const kept = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
+            assert(kept.sweeps === 2 && kept.series === 9, 'after a second sweep: ' + JSON.stringify(kept));
+            assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 14, 'both sweeps in the table');
+            await page.click('#sweep-clear');
+            const cleared = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
+            assert(cleared.sweeps === 0 && cleared.series === 0, 'after Clear: ' + JSON.stringify(cleared));
+            assert(await page.locator('#sweep-table').isHidden() && await page.locator('#sweep-csv').isDisabled(), 'Clear left the table or exports');
+            await page.fill('#sweep-sizes', '500, 1000, 2000, 4000');
         });
 
         await step('the JSON, GeoJSON and SVG downloads hold the diagram', async () => {
