@@ -65,9 +65,16 @@ const HAIRLINE_ABOVE = 20000;
 const DOTS_AS_PIXELS = 5000;
 /* Items smaller than this on screen (device px) are plotted as pixels. */
 const LOD_PX = 1.5;
-/* Script time of one slice of a frame, and items between time checks. */
+/* Script time of one slice of a frame, and items between time checks.
+ * The rasterising that follows a slice is measured too: when script and
+ * rasterising together exceed TASK_MS, the next slices get less script
+ * time (down to MIN_SLICE_MS), and more again when there is room. */
 const SLICE_MS = 12;
+const MIN_SLICE_MS = 3;
+const TASK_MS = 24;
 const BLOCK = 2048;
+/* Pixel images are composited in bands of this many rows, a task each. */
+const BAND_ROWS = 128;
 /* A frame that needed more than one slice is redrawn only once the view
  * has been still this long; meanwhile the preview follows the pointer. */
 const SETTLE_MS = 140;
@@ -108,7 +115,7 @@ function pixelBuffers(W, H) {
     const c = document.createElement('canvas');
     c.width = W;
     c.height = H;
-    const g = c.getContext('2d');
+    const g = c.getContext('2d', { willReadFrequently: true }); /* kept in memory: drawn from into the frame */
     const img = g.createImageData(W, H);
     px = {
         W: W, H: H, canvas: c, ctx: g, img: img,
@@ -382,7 +389,7 @@ function startFrame() {
     const job = {
         W: W, H: H, dpr: dpr, cssW: cssW, cssH: cssH,
         map: modelMap(), world: worldMap(), g: geom, layers: Object.assign({}, layers),
-        c: work.ctx, t0: performance.now(), scriptMs: 0, slices: 0, version: version,
+        c: work.ctx, t0: performance.now(), scriptMs: 0, rasterMs: 0, slices: 0, version: version,
         stats: { edges: 0, rays: 0, edgePixels: 0, delaunay: 0, delaunayPixels: 0, cells: 0, cellPixels: 0, sites: 0 },
     };
     job.steps = frameSteps(job);
@@ -391,18 +398,25 @@ function startFrame() {
     runSlice(job);
 }
 
+let sliceMs = SLICE_MS;
+
 function runSlice(job) {
     const t0 = performance.now();
     let done = false;
     for (;;) {
         if (job.steps.next().done) { done = true; break; }
-        if (performance.now() - t0 > SLICE_MS) break;
+        if (performance.now() - t0 > sliceMs) break;
     }
     /* reading a pixel makes the canvas rasterise what was recorded, so
      * that cost falls in this slice rather than piling up for the last */
+    const t1 = performance.now();
     job.c.getImageData(0, 0, 1, 1);
+    const t2 = performance.now();
+    if (t2 - t0 > TASK_MS) sliceMs = Math.max(MIN_SLICE_MS, sliceMs * 0.7);
+    else if (t2 - t0 < TASK_MS / 2) sliceMs = Math.min(SLICE_MS, sliceMs * 1.25);
+    job.rasterMs += t2 - t1;
     job.slices++;
-    job.scriptMs += performance.now() - t0;
+    job.scriptMs += t2 - t0;
     if (job !== current) return;
     if (done) finishFrame(job);
     else {
@@ -433,6 +447,7 @@ function finishFrame(job) {
         cells: { paths: s.cells, pixels: s.cellPixels },
     };
     pub.frameMs = job.scriptMs;
+    pub.frameRasterMs = job.rasterMs;
     pub.frameSlices = job.slices;
     pub.drawing = false;
     pub.drawCount = (pub.drawCount || 0) + 1;
@@ -554,14 +569,18 @@ function* compositeCoverage(job, d, hex, alpha) {
     yield* compositeImage(job, d);
 }
 
-/* Puts px.rgba within the dirty box d onto the frame. */
+/* Puts px.rgba within the dirty box d onto the frame, a band of rows at
+ * a time. */
 function* compositeImage(job, d) {
     const P = px;
-    const w = d[2] - d[0] + 1, h = d[3] - d[1] + 1;
-    P.ctx.putImageData(P.img, 0, 0, d[0], d[1], w, h);
+    const w = d[2] - d[0] + 1;
     job.c.setTransform(1, 0, 0, 1, 0, 0);
-    job.c.drawImage(P.canvas, d[0], d[1], w, h, d[0], d[1], w, h);
-    yield;
+    for (let y = d[1]; y <= d[3]; y += BAND_ROWS) {
+        const h = Math.min(BAND_ROWS, d[3] - y + 1);
+        P.ctx.putImageData(P.img, 0, 0, d[0], y, w, h);
+        job.c.drawImage(P.canvas, d[0], y, w, h, d[0], y, w, h);
+        yield;
+    }
 }
 
 /* Segments from point p to point q for each item i of runs, with

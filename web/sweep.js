@@ -18,7 +18,7 @@
  * Stop aborts it); pub.sweeps lists every sweep kept, pub.lastSweep is
  * the newest.
  */
-import { $, pub, jobs, ALGORITHMS, ALGO_LABEL, ALGO_COLOR, DIST_LABEL, fmtMs, fmtInt } from './util.js';
+import { $, pub, jobs, ALGORITHMS, ALGO_COLOR, DIST_LABEL, fmtMs, fmtInt } from './util.js';
 import { ServiceError, compareOnce, computeSpread, isAbort } from './api.js';
 import { showError, clearError, setStatus } from './status.js';
 import {

@@ -56,14 +56,18 @@ export const pub = {
     diagram: null,        /* the last diagram record itself */
     lastError: null,      /* {status, title, detail, pointer, line} */
     lastCompare: null,    /* normalised compare answer */
-    lastSweep: null,      /* {distribution, seed, rows, done} */
+    lastSweep: null,      /* the newest sweep (sweep.js), sweeps: all kept */
     timings: null,        /* {server_ms, roundtrip_ms, draw_ms, phases} */
-    frameMs: 0,           /* script time of the last frame */
+    decodedIn: null,      /* 'worker' or 'page': where the last answer was read */
+    frameMs: 0,           /* script time of the last frame, all its slices */
+    frameSlices: 0,       /* slices (tasks) the last frame took */
+    frameRasterMs: 0,     /* of frameMs, waiting for the canvas to rasterise */
     framePaintMs: 0,      /* the last pan/zoom frame until painted */
-    edgesDrawn: 0,        /* edges stroked in the last frame */
+    edgesDrawn: 0,        /* Voronoi edges drawn in the last frame */
     raysDrawn: 0,         /* of which rays and lines */
+    delaunayEdgesDrawn: 0,
     sitesDrawn: 0,
-    trianglesDrawn: 0,
+    lod: null,            /* per layer: items drawn as lines or paths, and as pixels */
     busy: false,
     computeCount: 0,      /* successful computes */
     compareCount: 0,

@@ -147,6 +147,7 @@ async function state(page) {
             lod: v.lod,
             drawing: v.drawing,
             frameSlices: v.frameSlices,
+            frameRasterMs: v.frameRasterMs,
             decodedIn: v.decodedIn,
             lastError: v.lastError,
             view: v.view,
@@ -912,7 +913,8 @@ async function main() {
             const worst = tasks.reduce((m, t) => Math.max(m, t.ms), 0);
             console.log('     10^6 points, every layer: ' + ((t1 - t0) / 1000).toFixed(1) + ' s from Compute to the drawn frame (server compute ' +
                 (s.timings.server_ms / 1000).toFixed(2) + ' s, round trip ' + (s.timings.roundtrip_ms / 1000).toFixed(2) +
-                ' s); frame of ' + s.frameSlices + ' slices, ' + s.frameMs.toFixed(0) + ' ms of script; long tasks (> 50 ms): ' +
+                ' s); frame of ' + s.frameSlices + ' slices, ' + s.frameMs.toFixed(0) + ' ms on the page\'s thread (' +
+                s.frameRasterMs.toFixed(0) + ' ms of it rasterising); long tasks (> 50 ms): ' +
                 tasks.length + ', longest ' + worst.toFixed(0) + ' ms' + (tasks.length ? ' [' + tasks.map((t) => t.ms.toFixed(0)).join(', ') + ']' : '') +
                 '; key typed ' + (typedWhile ? 'while drawing, handled while drawing: ' + r.inputs[0].drawing : 'after the frame'));
             await page.screenshot({ path: path.join(OUT, 'million.png') });
