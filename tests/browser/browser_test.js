@@ -737,6 +737,8 @@ async function main() {
             const plot = await canvasPixels(page, 'sweep-chart');
             assert(plot.colour > 300, 'the sweep plot has no coloured series (' + plot.colour + ')');
             await page.locator('section[aria-labelledby=sweep-h]').screenshot({ path: path.join(OUT, 'sweep.png') });
+            await page.locator('#sweep-chart').scrollIntoViewIfNeeded();
+            await page.screenshot({ path: path.join(OUT, 'page.png') });
 
             const download = async (id) => {
                 const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#' + id)]);
