@@ -68,7 +68,10 @@ API_CXX := $(wildcard api/*.cc)
 CLI_SRC := $(wildcard cli/*.c)
 SRV_SRC := $(wildcard server/*.c)
 SRV_LIB_SRC := $(filter-out server/main.c,$(SRV_SRC))
-SUPPORT_SRC := $(wildcard tests/support/*.c)
+# The test support library also carries api/distribution.c (libc and libm
+# only), so that the core tests generate the service's own distributions
+# without linking the codec.
+SUPPORT_SRC := $(wildcard tests/support/*.c) api/distribution.c
 TESTS_CORE := $(wildcard tests/core/test_*.c)
 TESTS_API := $(wildcard tests/api/test_*.c) $(wildcard tests/cli/test_*.c)
 TESTS_SRV := $(wildcard tests/server/test_*.c)

@@ -202,23 +202,20 @@ api_code api_request_option(api_request *r, const char *key, const char *value,
 api_code api_format_from_accept(api_request *r, const char *accept,
                                 api_problem *p);
 
-/* Generated point sets, deterministic for a seed (xoshiro256** seeded by
- * splitmix64, identical on every platform except for libm's last bits in
- * gaussian, circle and clustered):
- *   uniform   -- the unit square [0,1)^2;
- *   gaussian  -- standard normal x and y (mean 0, deviation 1);
- *   random    -- integer pixels in an 800x600 window (duplicates likely);
- *   grid      -- the first n points of the k x k integer grid,
- *                k = ceil(sqrt n), row by row (the seed is not used);
- *   circle    -- n points evenly spaced on the unit circle, in floating
- *                point (the seed is not used);
- *   clustered -- c = clamp(round(sqrt(n)/10), 1, 1000) gaussian clusters,
- *                centres uniform in the unit square, deviation 0.1/sqrt(c).
+/* Generated point sets, deterministic for (distribution, n, seed): uniform,
+ * gaussian, pixels (alias "random"), grid, circle, clustered, lognormal,
+ * outlier, decades -- each defined in distribution.h, which the test point
+ * sets and the benchmark share.
  * *xy is a new array of 2*n doubles (free with free()); NULL when n == 0.
  * Unknown distribution: API_INVALID listing the valid names; n >
  * VOR_MAX_POINTS: API_TOO_LARGE. */
 api_code api_generate(const char *distribution, size_t n, uint64_t seed,
                       double **xy, api_problem *p);
+
+/* The canonical name of a distribution name or alias ("pixels" for
+ * "random"), for answers that echo it; NULL if name is unknown. A borrowed
+ * constant. */
+const char *api_distribution_name(const char *name);
 
 /* ---- Computing ---------------------------------------------------------- */
 

@@ -6,15 +6,23 @@
  *   table   for each distribution, each n and each algorithm, one child
  *           process: generate the points, prepare the sites (vor_sites_new,
  *           outside the timer), then time vor_compute -- the full canonical
- *           diagram -- several times (more runs for small n, within a time
- *           budget) and report the median; at the sizes named by --mem-ns
- *           the first run also measures peak memory (bench_util.h). Prints
- *           one table per distribution and writes every case to --csv.
+ *           diagram -- on as many inputs of that size as fit in a time
+ *           budget (5 to 1001 runs, a new input each) and report the median
+ *           and the first run apart; at the sizes named by --mem-ns the
+ *           first run also measures peak memory (bench_util.h). Prints one
+ *           table per distribution and writes every case to --csv.
  *   points  writes a generated set as a points file, so that every peer
  *           reads the very same doubles.
  *   json    writes a generated set as a POST /voronoi JSON body.
  *   ours    times one algorithm on a points file like the peers are timed,
  *           optionally writing the dual triangles for `check`.
+ *   warmth  the same computation timed three ways, to tell the machine's
+ *           state from the algorithm's cost: cold (each run in a fresh
+ *           process on points it has never seen: cold caches, untrained
+ *           branch predictors, fresh heap pages), warm on the same points
+ *           (one process repeating one input, as `table` does) and warm on
+ *           varied points (one process, a new input of the same size each
+ *           run). Medians of --runs runs each.
  *   check   verifies a triangulation of a points file exactly: indices in
  *           range, every triangle strictly counter-clockwise, every edge in
  *           at most two triangles and in opposite directions, every interior
@@ -24,9 +32,11 @@
  *           counts Voronoi vertices (triangles merged across cocircular
  *           edges) to compare with our diagram.
  *
- * Distributions: uniform (unit square), gaussian (N(0,1) per axis), random
- * (integer pixels in 800x600, with duplicates) and unit-circle (cos, sin of
- * 2 pi k/n), from tests/support/testsets.h, deterministic for a seed.
+ * Distributions: every one the service generates (uniform, gaussian,
+ * pixels alias random, grid, circle, clustered, lognormal, outlier,
+ * decades; api/distribution.h through tests/support/testsets.h), the same
+ * points as `voronoi --generate DIST:N:SEED`, and unit-circle (cos, sin of
+ * 2 pi k/n, the same as circle).
  *
  * Each table case runs in its own process so that one case's heap does not
  * skew the next one's time or memory, and so that a crash or an overlong
@@ -63,7 +73,10 @@ static void usage(void) {
         "       bench_algo ours   --algo A --points FILE [--runs R]\n"
         "                         [--budget-ms B] [--tris FILE]\n"
         "       bench_algo check  --points FILE --tris FILE\n"
-        "distributions: uniform gaussian random unit-circle\n",
+        "       bench_algo warmth [--algos a,b] --dist D --ns 500,1000\n"
+        "                         [--runs R] [--seed S] --csv FILE\n"
+        "distributions: uniform gaussian pixels (random) grid circle clustered\n"
+        "               lognormal outlier decades unit-circle\n",
         stderr);
 }
 
@@ -137,18 +150,15 @@ static size_t split(const char *s, char *buf, size_t bufsize,
 /* ---- points ----------------------------------------------------------------- */
 
 /* New array of 2n doubles for a named distribution, NULL if unknown or out of
- * memory. */
+ * memory: the service's distributions (api/distribution.h, the very points
+ * `voronoi --generate DIST:N:SEED` makes) and unit-circle. */
 static double *generate(const char *dist, size_t n, uint64_t seed) {
-    if (!strcmp(dist, "uniform"))
-        return vt_uniform(n, seed);
-    if (!strcmp(dist, "gaussian"))
-        return vt_gaussian(n, seed);
-    if (!strcmp(dist, "random"))
-        return vt_pixels(n, seed);
     if (!strcmp(dist, "unit-circle"))
         return vt_unit_circle(n);
-    fprintf(stderr, "unknown distribution %s\n", dist);
-    return NULL;
+    double *xy = vt_distribution(dist, n, seed);
+    if (!xy)
+        fprintf(stderr, "unknown distribution %s (or out of memory)\n", dist);
+    return xy;
 }
 
 /* ---- one timed case ---------------------------------------------------------- */
@@ -158,14 +168,16 @@ typedef struct result {
     int check_ok;      /* 1 valid, 0 invalid, -1 not checked */
     int runs;
     size_t n, distinct, vertices, edges, triangles;
-    double median_ms, min_ms, peak_bytes;
+    double median_ms, min_ms, first_ms, peak_bytes;
     char msg[160];
 } result;
 
 /* Times vor_compute on prepared sites: one run first (with the peak-memory
  * probe when measure_mem), then as many as fit in budget_ms (at least
- * min_runs in all, at most max_runs). Keeps the last diagram in *keep when
- * keep != NULL. */
+ * min_runs in all, at most max_runs). The first run, the process's first
+ * touch of its heap and of the algorithm's code, is reported apart
+ * (first_ms); with three runs or more the median leaves it out. Keeps the
+ * last diagram in *keep when keep != NULL. */
 static void time_compute(const vor_sites *sites, vor_algorithm algo,
                          int measure_mem, double budget_ms, int min_runs,
                          int max_runs, result *r, vor_diagram **keep) {
@@ -198,11 +210,13 @@ static void time_compute(const vor_sites *sites, vor_algorithm algo,
     }
     r->status = st;
     r->runs = runs;
+    r->first_ms = ms[0];
     r->min_ms = ms[0];
     for (int i = 1; i < runs; i++)
         if (ms[i] < r->min_ms)
             r->min_ms = ms[i];
-    r->median_ms = bu_median(ms, (size_t)runs);
+    r->median_ms = runs >= 3 ? bu_median(ms + 1, (size_t)runs - 1)
+                             : bu_median(ms, (size_t)runs);
     if (d) {
         r->vertices = d->n_vertices;
         r->edges = d->n_edges;
@@ -214,34 +228,83 @@ static void time_compute(const vor_sites *sites, vor_algorithm algo,
     free(ms);
 }
 
-/* The child's work for one table case; fills *r. */
+/* Prepared sites of dist for (n, seed); NULL on failure. */
+static vor_sites *sites_for(const char *dist, size_t n, uint64_t seed) {
+    double *xy = generate(dist, n, seed);
+    vor_sites *s = NULL;
+    if (xy && vor_sites_new(xy, n, &s, NULL) != VOR_OK)
+        s = NULL;
+    free(xy);
+    return s;
+}
+
+/* The child's work for one table case; fills *r.
+ *
+ * Every run computes a new input of the distribution and size (seeds seed,
+ * seed + 1, ...), prepared outside the timer just before it: one input
+ * repeated lets the branch predictors learn it, which at small n is worth a
+ * factor of two (bench_algo warmth shows it), and no user repeats an input.
+ * grid and circle have no seed and repeat theirs. The first run, the
+ * process's first (fresh heap pages, cold code), is reported apart as
+ * first_ms, and its diagram is the one counted and checked (every algorithm
+ * sees the same first input); the median is over the other runs, as many
+ * as fit in the budget: a cap that changed with n (it once dropped from
+ * 1001 to 51 runs above n = 1000) would change how warm the median is at
+ * that n, not the algorithm. */
 static void table_case(const opts *o, const char *dist, vor_algorithm algo,
                        size_t n, int measure_mem, result *r) {
     memset(r, 0, sizeof *r);
     r->n = n;
     r->check_ok = -1;
     r->peak_bytes = -1;
-    double *xy = generate(dist, n, o->seed);
-    vor_sites *sites = NULL;
-    if (!xy) {
+    vor_sites *first = sites_for(dist, n, o->seed);
+    if (!first) {
         r->status = VOR_ENOMEM;
         return;
     }
-    vor_status st = vor_sites_new(xy, n, &sites, NULL);
-    free(xy);
-    if (st != VOR_OK) {
-        r->status = st;
-        return;
-    }
-    r->distinct = sites->n;
+    r->distinct = first->n;
     vor_diagram *d = NULL;
-    int max_runs = n <= 1000 ? 1001 : n <= 100000 ? 51 : 5;
-    time_compute(sites, algo, measure_mem, o->budget_ms, 3, max_runs, r, &d);
-    if (d && n <= o->check_max) {
-        r->check_ok = vor_check(d, sites, r->msg, sizeof r->msg) == 0;
+    long base = measure_mem ? bu_peak_reset() : -1;
+    uint64_t t0 = bu_now_ns();
+    vor_status st = vor_compute(first, algo, &d);
+    uint64_t t1 = bu_now_ns();
+    if (measure_mem && st == VOR_OK)
+        r->peak_bytes = bu_peak_bytes(base);
+    r->first_ms = r->min_ms = r->median_ms = (double)(t1 - t0) / 1e6;
+    int want = bu_runs_for((double)(t1 - t0), o->budget_ms * 1e6, 5, 1001);
+    double *ms = malloc(sizeof *ms * (size_t)want);
+    int runs = 0;
+    if (!ms)
+        st = VOR_ENOMEM;
+    while (st == VOR_OK && 1 + runs < want) {
+        vor_sites *s = sites_for(dist, n, o->seed + 1 + (uint64_t)runs);
+        vor_diagram *e = NULL;
+        if (!s) {
+            st = VOR_ENOMEM;
+            break;
+        }
+        t0 = bu_now_ns();
+        st = vor_compute(s, algo, &e);
+        t1 = bu_now_ns();
+        ms[runs++] = (double)(t1 - t0) / 1e6;
+        if (ms[runs - 1] < r->min_ms)
+            r->min_ms = ms[runs - 1];
+        vor_diagram_free(e);
+        vor_sites_free(s);
     }
+    r->status = st;
+    r->runs = 1 + runs;
+    if (runs > 0)
+        r->median_ms = bu_median(ms, (size_t)runs);
+    if (d) {
+        r->vertices = d->n_vertices;
+        r->edges = d->n_edges;
+        if (n <= o->check_max)
+            r->check_ok = vor_check(d, first, r->msg, sizeof r->msg) == 0;
+    }
+    free(ms);
     vor_diagram_free(d);
-    vor_sites_free(sites);
+    vor_sites_free(first);
 }
 
 static const char *status_text(const result *r) {
@@ -250,41 +313,45 @@ static const char *status_text(const result *r) {
     return r->msg;
 }
 
-/* Runs table_case in a child with an alarm; a crash, a timeout or a broken
- * pipe is reported in r (status -1, msg says what). */
-static void run_case(const opts *o, const char *dist, vor_algorithm algo,
-                     size_t n, int measure_mem, result *r) {
+/* Runs fn(arg, out) in a child process that an alarm ends after limit_s
+ * seconds; the child sends the size bytes of *out back through a pipe.
+ * Returns 0 when they arrived, -1 otherwise with the reason (a crash, the
+ * timeout, no result) in msg. */
+static int in_child(void (*fn)(const void *arg, void *out), const void *arg,
+                    void *out, size_t size, int limit_s, char *msg,
+                    size_t msg_size) {
     int fd[2];
-    memset(r, 0, sizeof *r);
-    r->n = n;
-    r->check_ok = -1;
-    r->peak_bytes = -1;
-    r->status = -1;
     fflush(NULL);
     if (pipe(fd) != 0) {
-        snprintf(r->msg, sizeof r->msg, "pipe: %s", strerror(errno));
-        return;
+        snprintf(msg, msg_size, "pipe: %s", strerror(errno));
+        return -1;
     }
     pid_t pid = fork();
     if (pid < 0) {
-        snprintf(r->msg, sizeof r->msg, "fork: %s", strerror(errno));
+        snprintf(msg, msg_size, "fork: %s", strerror(errno));
         close(fd[0]);
         close(fd[1]);
-        return;
+        return -1;
     }
     if (pid == 0) {
         close(fd[0]);
-        alarm((unsigned)o->limit_s);
-        result mine;
-        table_case(o, dist, algo, n, measure_mem, &mine);
-        ssize_t w = write(fd[1], &mine, sizeof mine);
-        _exit(w == (ssize_t)sizeof mine ? 0 : 1);
+        alarm((unsigned)limit_s);
+        fn(arg, out);
+        size_t done = 0;
+        while (done < size) {
+            ssize_t w = write(fd[1], (const char *)out + done, size - done);
+            if (w < 0 && errno == EINTR)
+                continue;
+            if (w <= 0)
+                _exit(1);
+            done += (size_t)w;
+        }
+        _exit(0);
     }
     close(fd[1]);
-    result got;
     size_t have = 0;
-    while (have < sizeof got) {
-        ssize_t k = read(fd[0], (char *)&got + have, sizeof got - have);
+    while (have < size) {
+        ssize_t k = read(fd[0], (char *)out + have, size - have);
         if (k < 0 && errno == EINTR)
             continue;
         if (k <= 0)
@@ -295,15 +362,44 @@ static void run_case(const opts *o, const char *dist, vor_algorithm algo,
     int ws = 0;
     while (waitpid(pid, &ws, 0) < 0 && errno == EINTR)
         ;
-    if (have == sizeof got) {
-        *r = got;
-    } else if (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGALRM) {
-        snprintf(r->msg, sizeof r->msg, "timeout>%ds", o->limit_s);
-    } else if (WIFSIGNALED(ws)) {
-        snprintf(r->msg, sizeof r->msg, "crash(signal %d)", WTERMSIG(ws));
-    } else {
-        snprintf(r->msg, sizeof r->msg, "no-result(exit %d)",
+    if (have == size)
+        return 0;
+    if (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGALRM)
+        snprintf(msg, msg_size, "timeout>%ds", limit_s);
+    else if (WIFSIGNALED(ws))
+        snprintf(msg, msg_size, "crash(signal %d)", WTERMSIG(ws));
+    else
+        snprintf(msg, msg_size, "no-result(exit %d)",
                  WIFEXITED(ws) ? WEXITSTATUS(ws) : -1);
+    return -1;
+}
+
+typedef struct case_arg {
+    const opts *o;
+    const char *dist;
+    vor_algorithm algo;
+    size_t n;
+    int measure_mem;
+} case_arg;
+
+static void table_child(const void *arg, void *out) {
+    const case_arg *a = (const case_arg *)arg;
+    table_case(a->o, a->dist, a->algo, a->n, a->measure_mem, (result *)out);
+}
+
+/* Runs table_case in a child with an alarm; a crash, a timeout or a broken
+ * pipe is reported in r (status -1, msg says what). */
+static void run_case(const opts *o, const char *dist, vor_algorithm algo,
+                     size_t n, int measure_mem, result *r) {
+    case_arg a = {o, dist, algo, n, measure_mem};
+    char msg[sizeof r->msg];
+    if (in_child(table_child, &a, r, sizeof *r, o->limit_s, msg, sizeof msg)) {
+        memset(r, 0, sizeof *r);
+        r->n = n;
+        r->check_ok = -1;
+        r->peak_bytes = -1;
+        r->status = -1;
+        snprintf(r->msg, sizeof r->msg, "%s", msg);
     }
 }
 
@@ -350,12 +446,14 @@ static int cmd_table(const opts *o) {
     if (csv)
         fprintf(csv, "algorithm,distribution,n,distinct,runs,median_ms,min_ms,"
                      "ns_per_point,peak_bytes_per_point,vertices,edges,check,"
-                     "status\n");
+                     "status,first_ms\n");
     printf("Timed: vor_compute only (full canonical diagram), sites prepared "
-           "outside the timer;\nmedian of the runs shown; ns/pt = median / n "
-           "input points; B/pt = peak memory\nof one vor_compute per input "
-           "point (VmHWM growth, child process per case).\n"
-           "seed %llu\n",
+           "outside the timer;\neach run on a new input of the same size "
+           "(seeds S, S+1, ...; grid and circle\nrepeat theirs); ms = median "
+           "of the runs after the first; ns/pt = that median / n\ninput "
+           "points; 1st = the first run's ns/pt (fresh heap, cold code); "
+           "B/pt = peak\nmemory of one vor_compute per input point (VmHWM "
+           "growth, child process per case).\nseed S = %llu\n",
            (unsigned long long)o->seed);
     uint64_t t_start = bu_now_ns();
     for (size_t di = 0; di < nd; di++) {
@@ -367,10 +465,11 @@ static int cmd_table(const opts *o) {
         double prev_ms[MAX_LIST] = {0};
         printf("\n== %s\n%9s", dn[di], "n");
         for (size_t ai = 0; ai < na; ai++)
-            printf(" | %-27s", an[ai]);
+            printf(" | %-33s", an[ai]);
         printf("\n%9s", "");
         for (size_t ai = 0; ai < na; ai++)
-            printf(" | %9s %7s %4s %4s", "ms", "ns/pt", "B/pt", "runs");
+            printf(" | %9s %6s %5s %4s %4s", "ms", "ns/pt", "1st", "B/pt",
+                   "runs");
         printf("\n");
         for (size_t ni = 0; ni < nn; ni++) {
             size_t n = nval[ni];
@@ -409,7 +508,7 @@ static int cmd_table(const opts *o) {
                     prev_ms[ai] = r.median_ms;
                 }
                 if (r.status != VOR_OK) {
-                    printf(" | %-27.27s", status_text(&r));
+                    printf(" | %-33.33s", status_text(&r));
                     if (r.status < 0)
                         gave_up[ai] = 1;
                 } else {
@@ -418,8 +517,9 @@ static int cmd_table(const opts *o) {
                     if (r.peak_bytes >= 0)
                         snprintf(b, sizeof b, "%.0f",
                                  r.peak_bytes / (double)n);
-                    printf(" | %9s %7.0f %4s %4d%s", t,
-                           r.median_ms * 1e6 / (double)n, b, r.runs,
+                    printf(" | %9s %6.0f %5.0f %4s %4d%s", t,
+                           r.median_ms * 1e6 / (double)n,
+                           r.first_ms * 1e6 / (double)n, b, r.runs,
                            r.check_ok == 0 ? "!" : "");
                     counts[ai][0] = r.vertices;
                     counts[ai][1] = r.edges;
@@ -443,11 +543,11 @@ static int cmd_table(const opts *o) {
                                                : 0.0);
                     if (r.peak_bytes >= 0)
                         fprintf(csv, "%.1f", r.peak_bytes / (double)n);
-                    fprintf(csv, ",%zu,%zu,%s,%s\n", r.vertices, r.edges,
+                    fprintf(csv, ",%zu,%zu,%s,%s,%.6f\n", r.vertices, r.edges,
                             r.check_ok < 0   ? "-"
                             : r.check_ok > 0 ? "ok"
                                              : "FAILED",
-                            status_text(&r));
+                            status_text(&r), r.first_ms);
                     fflush(csv);
                 }
             }
@@ -722,6 +822,154 @@ static int cmd_check(const opts *o) {
     return ok ? 0 : 1;
 }
 
+/* ---- warmth ------------------------------------------------------------------ */
+
+typedef struct warm_arg {
+    const char *dist;
+    vor_algorithm algo;
+    size_t n;
+    uint64_t seed;
+    int runs;
+    int varied; /* warm runs: a new input each run (1) or the same one (0) */
+} warm_arg;
+
+typedef struct warm_out {
+    int status; /* vor_status, or -1 when the points could not be made */
+    double ms;  /* cold: the one run; warm: the median of runs 2 .. runs+1 */
+} warm_out;
+
+/* One computation in a process that has done nothing else yet. */
+static void cold_child(const void *arg, void *out) {
+    const warm_arg *a = (const warm_arg *)arg;
+    warm_out *w = (warm_out *)out;
+    vor_sites *s = sites_for(a->dist, a->n, a->seed);
+    vor_diagram *d = NULL;
+    w->status = -1;
+    w->ms = 0;
+    if (!s)
+        return;
+    uint64_t t0 = bu_now_ns();
+    w->status = vor_compute(s, a->algo, &d);
+    w->ms = (double)(bu_now_ns() - t0) / 1e6;
+    vor_diagram_free(d);
+    vor_sites_free(s);
+}
+
+/* runs + 1 computations in one process, on one input or on runs + 1
+ * inputs prepared beforehand; the first run is left out of the median. */
+static void warm_child(const void *arg, void *out) {
+    const warm_arg *a = (const warm_arg *)arg;
+    warm_out *w = (warm_out *)out;
+    int k = a->varied ? a->runs + 1 : 1;
+    vor_sites **s = calloc((size_t)k, sizeof *s);
+    double *ms = malloc(sizeof *ms * (size_t)(a->runs + 1));
+    w->status = -1;
+    w->ms = 0;
+    for (int i = 0; s && i < k; i++)
+        if (!(s[i] = sites_for(a->dist, a->n, a->seed + (uint64_t)i)))
+            return;
+    if (!s || !ms)
+        return;
+    w->status = VOR_OK;
+    for (int r = 0; r <= a->runs && w->status == VOR_OK; r++) {
+        vor_diagram *d = NULL;
+        uint64_t t0 = bu_now_ns();
+        w->status = vor_compute(s[a->varied ? r : 0], a->algo, &d);
+        ms[r] = (double)(bu_now_ns() - t0) / 1e6;
+        vor_diagram_free(d);
+    }
+    w->ms = bu_median(ms + 1, (size_t)a->runs);
+    for (int i = 0; i < k; i++)
+        vor_sites_free(s[i]);
+    free(s);
+    free(ms);
+}
+
+/* Cold, warm on the same input, warm on varied inputs: median ms of runs
+ * each, for every n and algorithm; a table and --csv rows. */
+static int cmd_warmth(const opts *o) {
+    char abuf[512], nbuf[512];
+    const char *an[MAX_LIST], *ns[MAX_LIST];
+    size_t na = split(o->algos, abuf, sizeof abuf, an);
+    size_t nn = split(o->ns, nbuf, sizeof nbuf, ns);
+    static const char *const mode[3] = {"cold", "warm-same", "warm-varied"};
+    const char *dist = o->dist ? o->dist : "uniform";
+    int runs = o->runs > 0 ? o->runs : 3;
+    FILE *csv = o->csv ? fopen(o->csv, "w") : NULL;
+    if (o->csv && !csv) {
+        perror(o->csv);
+        return 2;
+    }
+    if (csv)
+        fprintf(csv, "algorithm,distribution,n,mode,runs,median_ms,"
+                     "ns_per_point,status\n");
+    printf("%s, median of %d runs per mode; ns per input point\n", dist, runs);
+    printf("%9s", "n");
+    for (size_t ai = 0; ai < na; ai++)
+        printf(" | %-29s", an[ai]);
+    printf("\n%9s", "");
+    for (size_t ai = 0; ai < na; ai++)
+        printf(" | %9s %9s %9s", mode[0], "w-same", "w-varied");
+    printf("\n");
+    int bad = 0;
+    for (size_t ni = 0; ni < nn; ni++) {
+        size_t n = strtoull(ns[ni], NULL, 10);
+        printf("%9zu", n);
+        for (size_t ai = 0; ai < na; ai++) {
+            vor_algorithm algo;
+            if (vor_algorithm_parse(an[ai], &algo) != VOR_OK) {
+                fprintf(stderr, "unknown algorithm %s\n", an[ai]);
+                return 2;
+            }
+            printf(" |");
+            for (int m = 0; m < 3; m++) {
+                warm_arg a = {dist, algo, n, o->seed, runs, m == 2};
+                warm_out w = {-1, 0};
+                char msg[96] = "";
+                double med = 0;
+                int ok = 1;
+                if (m == 0) { /* one process per run, a new seed each */
+                    double *v = malloc(sizeof *v * (size_t)runs);
+                    for (int r = 0; v && r < runs && ok; r++) {
+                        a.seed = o->seed + (uint64_t)r;
+                        ok = in_child(cold_child, &a, &w, sizeof w, o->limit_s,
+                                      msg, sizeof msg) == 0 &&
+                             w.status == VOR_OK;
+                        if (ok)
+                            v[r] = w.ms;
+                    }
+                    ok = ok && v;
+                    if (ok)
+                        med = bu_median(v, (size_t)runs);
+                    free(v);
+                } else {
+                    ok = in_child(warm_child, &a, &w, sizeof w, o->limit_s,
+                                  msg, sizeof msg) == 0 &&
+                         w.status == VOR_OK;
+                    med = w.ms;
+                }
+                if (ok)
+                    printf(" %9.0f", med * 1e6 / (double)n);
+                else
+                    printf(" %9s", "failed");
+                bad |= !ok;
+                if (csv)
+                    fprintf(csv, "%s,%s,%zu,%s,%d,%.6f,%.2f,%s\n", an[ai], dist,
+                            n, mode[m], runs, ok ? med : 0.0,
+                            ok ? med * 1e6 / (double)n : 0.0,
+                            ok ? "ok" : msg[0] ? msg : "failed");
+                fflush(stdout);
+            }
+        }
+        printf("\n");
+    }
+    if (csv && fclose(csv) != 0) {
+        perror(o->csv);
+        return 2;
+    }
+    return bad;
+}
+
 /* Caps this process's address space (and so its children's) at
  * BENCH_MEM_LIMIT_GB GiB, 8 by default: an algorithm that runs away with
  * memory then fails one case with VOR_ENOMEM or a crash instead of driving
@@ -754,6 +1002,8 @@ int main(int argc, char **argv) {
         return cmd_ours(&o);
     if (!strcmp(cmd, "check"))
         return cmd_check(&o);
+    if (!strcmp(cmd, "warmth"))
+        return cmd_warmth(&o);
     usage();
     return 2;
 }

@@ -4,7 +4,9 @@
  * and the exchange files that let every peer run on the very same points:
  *
  *   points file:    little-endian float64 pairs x0 y0 x1 y1 ..., no header;
- *                   n = size / 16.
+ *                   n = size / 16. A driver's --points may name several,
+ *                   comma-separated, of the same n: run r computes file
+ *                   r mod count (bu_split_paths).
  *   triangles file: uint32 triples of point indices (counter-clockwise
  *                   expected), no header; n_tri = size / 12.
  *
@@ -133,6 +135,25 @@ static inline double *bu_read_points(const char *path, size_t *n) {
     }
     *n = len / 16;
     return xy;
+}
+
+/* Splits a comma-separated list of points files in place: *list's commas
+ * become NULs and paths[0 .. count) point into it. Returns the count (at
+ * most max). The drivers take such a list so that consecutive runs compute
+ * different inputs of one size: one input repeated lets the branch
+ * predictors learn it, which below about a thousand points is worth up to a
+ * factor of two (bench_algo warmth). Run r computes input r mod count. */
+static inline int bu_split_paths(char *list, char **paths, int max) {
+    int count = 0;
+    while (list && *list && count < max) {
+        paths[count++] = list;
+        char *comma = strchr(list, ',');
+        if (!comma)
+            break;
+        *comma = '\0';
+        list = comma + 1;
+    }
+    return count;
 }
 
 /* Writes len bytes to path; 0 on success. */

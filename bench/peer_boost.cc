@@ -14,7 +14,8 @@
 // together with the quantised points (--qpoints), so that bench_algo can
 // check Boost's diagram exactly against the input Boost really had.
 //
-// usage: peer_boost --points FILE [--runs R] [--tris FILE --qpoints FILE]
+// usage: peer_boost --points FILE[,FILE...] [--runs R]
+//                   [--tris FILE --qpoints FILE]
 // prints: RESULT name=boost n=... ms=... min_ms=... runs=... peak_bpp=...
 //         vertices=... collapsed=... triangles=... status=ok
 #include <boost/polygon/voronoi.hpp>
@@ -48,28 +49,16 @@ static void dual_triangles(const VD &vd, std::vector<uint32_t> &tri) {
     }
 }
 
-int main(int argc, char **argv) {
-    const char *points = nullptr, *tris = nullptr, *qpoints = nullptr;
-    int runs = 3;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--points"))
-            points = argv[i + 1];
-        else if (!std::strcmp(argv[i], "--runs"))
-            runs = std::atoi(argv[i + 1]);
-        else if (!std::strcmp(argv[i], "--tris"))
-            tris = argv[i + 1];
-        else if (!std::strcmp(argv[i], "--qpoints"))
-            qpoints = argv[i + 1];
-    }
-    size_t n = 0;
-    double *xy = points ? bu_read_points(points, &n) : nullptr;
-    if (!xy || n == 0 || runs < 1 || (tris && !qpoints)) {
-        std::fputs("usage: peer_boost --points FILE [--runs R] "
-                   "[--tris FILE --qpoints FILE]\n",
-                   stderr);
-        return 2;
-    }
-    // Quantise: scale 2^k so that the larger side of the box fits 2^30.
+// One input quantised: the points, their doubles (for --qpoints) and how
+// many collapsed onto an earlier point.
+struct Quantised {
+    std::vector<IPoint> pts;
+    std::vector<double> qxy;
+    size_t collapsed = 0;
+};
+
+// Quantise: scale 2^k so that the larger side of the box fits 2^30.
+static void quantise(const double *xy, size_t n, Quantised &q) {
     double xmin = xy[0], xmax = xy[0], ymin = xy[1], ymax = xy[1];
     for (size_t i = 1; i < n; i++) {
         xmin = std::fmin(xmin, xy[2 * i]);
@@ -81,33 +70,67 @@ int main(int argc, char **argv) {
     int ex = 0;
     std::frexp(side > 0 ? side : 1.0, &ex); // side < 2^ex
     double scale = std::ldexp(1.0, 30 - ex);
-    std::vector<IPoint> pts;
-    std::vector<double> qxy;
-    pts.reserve(n);
-    qxy.reserve(2 * n);
+    q.pts.reserve(n);
+    q.qxy.reserve(2 * n);
     std::set<std::pair<int32_t, int32_t>> seen;
-    size_t collapsed = 0;
     for (size_t i = 0; i < n; i++) {
         int32_t x = (int32_t)std::llround((xy[2 * i] - xmin) * scale);
         int32_t y = (int32_t)std::llround((xy[2 * i + 1] - ymin) * scale);
-        pts.emplace_back(x, y);
-        qxy.push_back(x);
-        qxy.push_back(y);
+        q.pts.emplace_back(x, y);
+        q.qxy.push_back(x);
+        q.qxy.push_back(y);
         if (!seen.insert(std::make_pair(x, y)).second)
-            collapsed++;
+            q.collapsed++;
     }
-    seen.clear();
-    std::free(xy);
+}
+
+int main(int argc, char **argv) {
+    char *points = nullptr;
+    const char *tris = nullptr, *qpoints = nullptr;
+    int runs = 3;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!std::strcmp(argv[i], "--points"))
+            points = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--runs"))
+            runs = std::atoi(argv[i + 1]);
+        else if (!std::strcmp(argv[i], "--tris"))
+            tris = argv[i + 1];
+        else if (!std::strcmp(argv[i], "--qpoints"))
+            qpoints = argv[i + 1];
+    }
+    char *paths[64];
+    int files = bu_split_paths(points, paths, 64);
+    std::vector<Quantised> sets((size_t)files);
+    size_t n = 0;
+    for (int f = 0; f < files; f++) {
+        size_t m = 0;
+        double *xy = bu_read_points(paths[f], &m);
+        if (!xy || m == 0 || (f > 0 && m != n)) {
+            std::free(xy);
+            files = 0;
+            break;
+        }
+        n = m;
+        quantise(xy, n, sets[(size_t)f]);
+        std::free(xy);
+    }
+    if (files == 0 || runs < 1 || (tris && !qpoints)) {
+        std::fputs("usage: peer_boost --points FILE[,FILE...] [--runs R] "
+                   "[--tris FILE --qpoints FILE]\n",
+                   stderr);
+        return 2;
+    }
 
     std::vector<double> ms;
     double peak = -1;
     size_t vertices = 0;
     long nt = -1;
     for (int r = 0; r < runs; r++) {
+        const Quantised &q = sets[(size_t)(r % files)];
         long base = r == 0 ? bu_peak_reset() : -1;
         VD vd;
         uint64_t t0 = bu_now_ns();
-        boost::polygon::construct_voronoi(pts.begin(), pts.end(), &vd);
+        boost::polygon::construct_voronoi(q.pts.begin(), q.pts.end(), &vd);
         uint64_t t1 = bu_now_ns();
         ms.push_back((double)(t1 - t0) / 1e6);
         if (r == 0) {
@@ -117,7 +140,7 @@ int main(int argc, char **argv) {
                 std::vector<uint32_t> tri;
                 dual_triangles(vd, tri);
                 if (bu_write_file(tris, tri.data(), tri.size() * 4) == 0 &&
-                    bu_write_file(qpoints, qxy.data(), qxy.size() * 8) == 0)
+                    bu_write_file(qpoints, q.qxy.data(), q.qxy.size() * 8) == 0)
                     nt = (long)(tri.size() / 3);
             }
         }
@@ -130,6 +153,7 @@ int main(int argc, char **argv) {
                 "peak_bpp=%.1f vertices=%zu collapsed=%zu triangles=%ld "
                 "status=%s\n",
                 n, med, min_ms, runs, peak >= 0 ? peak / (double)n : -1.0,
-                vertices, collapsed, nt, tris && nt < 0 ? "write-failed" : "ok");
+                vertices, sets[0].collapsed, nt,
+                tris && nt < 0 ? "write-failed" : "ok");
     return tris && nt < 0 ? 1 : 0;
 }

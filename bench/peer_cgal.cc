@@ -11,9 +11,9 @@
 //
 // The first run also measures peak memory (bench_util.h). With --tris, an
 // extra untimed build that carries each point's index writes the finite
-// triangles for bench_algo's exact check.
+// triangles of the first file for bench_algo's exact check.
 //
-// usage: peer_cgal --points FILE [--runs R] [--tris FILE]
+// usage: peer_cgal --points FILE[,FILE...] [--runs R] [--tris FILE]
 // prints: RESULT name=cgal n=... ms=... min_ms=... runs=... peak_bpp=...
 //         triangles=... status=ok
 #include <CGAL/Delaunay_triangulation_2.h>
@@ -53,7 +53,8 @@ static long write_triangles(const std::vector<Point> &pts, const char *path) {
 }
 
 int main(int argc, char **argv) {
-    const char *points = nullptr, *tris = nullptr;
+    char *points = nullptr;
+    const char *tris = nullptr;
     int runs = 3;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!std::strcmp(argv[i], "--points"))
@@ -63,23 +64,36 @@ int main(int argc, char **argv) {
         else if (!std::strcmp(argv[i], "--tris"))
             tris = argv[i + 1];
     }
+    char *paths[64];
+    int files = bu_split_paths(points, paths, 64);
+    std::vector<std::vector<Point>> sets((size_t)files);
     size_t n = 0;
-    double *xy = points ? bu_read_points(points, &n) : nullptr;
-    if (!xy || runs < 1) {
-        std::fputs("usage: peer_cgal --points FILE [--runs R] [--tris FILE]\n",
+    for (int f = 0; f < files; f++) {
+        size_t m = 0;
+        double *xy = bu_read_points(paths[f], &m);
+        if (!xy || (f > 0 && m != n)) {
+            std::free(xy);
+            files = 0;
+            break;
+        }
+        n = m;
+        sets[(size_t)f].reserve(n);
+        for (size_t i = 0; i < n; i++)
+            sets[(size_t)f].emplace_back(xy[2 * i], xy[2 * i + 1]);
+        std::free(xy);
+    }
+    if (files == 0 || runs < 1) {
+        std::fputs("usage: peer_cgal --points FILE[,FILE...] [--runs R] "
+                   "[--tris FILE]\n",
                    stderr);
         return 2;
     }
-    std::vector<Point> pts;
-    pts.reserve(n);
-    for (size_t i = 0; i < n; i++)
-        pts.emplace_back(xy[2 * i], xy[2 * i + 1]);
-    std::free(xy);
 
     std::vector<double> ms;
     double peak = -1;
     size_t faces = 0;
     for (int r = 0; r < runs; r++) {
+        const std::vector<Point> &pts = sets[(size_t)(r % files)];
         long base = r == 0 ? bu_peak_reset() : -1;
         uint64_t t0 = bu_now_ns();
         {
@@ -99,7 +113,7 @@ int main(int argc, char **argv) {
     double med = bu_median(ms.data(), ms.size());
     long nt = (long)faces;
     if (tris)
-        nt = write_triangles(pts, tris);
+        nt = write_triangles(sets[0], tris);
     std::printf("RESULT name=cgal n=%zu ms=%.3f min_ms=%.3f runs=%d "
                 "peak_bpp=%.1f triangles=%ld status=%s\n",
                 n, med, min_ms, runs, peak >= 0 ? peak / (double)n : -1.0, nt,

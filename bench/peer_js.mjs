@@ -14,7 +14,7 @@
 // written as uint32 triples, counter-clockwise in the usual y-up sense, for
 // bench_algo's exact check.
 //
-// usage: node peer_js.mjs --lib delaunator|d3-delaunay --points FILE
+// usage: node peer_js.mjs --lib delaunator|d3-delaunay --points FILE[,FILE...]
 //                         [--runs R] [--tris FILE]
 // prints: RESULT name=... n=... ms=... min_ms=... runs=... peak_bpp=...
 //         triangles=... status=ok
@@ -49,27 +49,36 @@ const runs = Number(arg('--runs', '3'));
 const trisOut = arg('--tris');
 if (!file || !(runs >= 1) || !['delaunator', 'd3-delaunay'].includes(lib)) {
   console.error('usage: node peer_js.mjs --lib delaunator|d3-delaunay ' +
-                '--points FILE [--runs R] [--tris FILE]');
+                '--points FILE[,FILE...] [--runs R] [--tris FILE]');
   process.exit(2);
 }
-const raw = fs.readFileSync(file);
-const coords = new Float64Array(raw.buffer.slice(raw.byteOffset,
-                                                 raw.byteOffset + raw.length));
-const n = coords.length / 2;
-let xmin = Infinity, ymin = Infinity, xmax = -Infinity, ymax = -Infinity;
-for (let i = 0; i < n; i++) {
-  xmin = Math.min(xmin, coords[2 * i]); xmax = Math.max(xmax, coords[2 * i]);
-  ymin = Math.min(ymin, coords[2 * i + 1]);
-  ymax = Math.max(ymax, coords[2 * i + 1]);
+// --points may name several files of one n, comma-separated: run r
+// computes file r mod count, so that no input is repeated back to back.
+const sets = file.split(',').map((path) => {
+  const raw = fs.readFileSync(path);
+  const coords = new Float64Array(raw.buffer.slice(raw.byteOffset,
+                                                   raw.byteOffset + raw.length));
+  const m = coords.length / 2;
+  let xmin = Infinity, ymin = Infinity, xmax = -Infinity, ymax = -Infinity;
+  for (let i = 0; i < m; i++) {
+    xmin = Math.min(xmin, coords[2 * i]); xmax = Math.max(xmax, coords[2 * i]);
+    ymin = Math.min(ymin, coords[2 * i + 1]);
+    ymax = Math.max(ymax, coords[2 * i + 1]);
+  }
+  return { coords, bbox: [xmin, ymin, xmax, ymax] };
+});
+const n = sets[0].coords.length / 2;
+if (sets.some((t) => t.coords.length !== 2 * n)) {
+  console.error('peer_js: the points files differ in size');
+  process.exit(2);
 }
-const bbox = [xmin, ymin, xmax, ymax];
 
 // One untimed warm-up on at most 10^4 of the points, so that the timed runs
 // measure optimised code rather than the JIT compiler's first passes.
 {
-  const warm = coords.subarray(0, 2 * Math.min(n, 10000));
+  const warm = sets[0].coords.subarray(0, 2 * Math.min(n, 10000));
   new Delaunator(warm);
-  if (lib === 'd3-delaunay') new Delaunay(warm).voronoi(bbox);
+  if (lib === 'd3-delaunay') new Delaunay(warm).voronoi(sets[0].bbox);
 }
 
 const ms = [];
@@ -77,6 +86,7 @@ let peak = -1, triangles = null;
 for (let r = 0; r < runs; r++) {
   const base = r === 0 ? peakReset() : -1;
   const t0 = process.hrtime.bigint();
+  const { coords, bbox } = sets[r % sets.length];
   let tri;
   if (lib === 'delaunator') {
     tri = new Delaunator(coords).triangles;

@@ -14,7 +14,7 @@
  * counter-clockwise (oriented by the facet's orientation flag) for the
  * exact check in bench_algo.
  *
- * usage: peer_qhull --points FILE [--runs R] [--tris FILE]
+ * usage: peer_qhull --points FILE[,FILE...] [--runs R] [--tris FILE]
  * prints: RESULT name=qhull n=... ms=... min_ms=... runs=... peak_bpp=...
  *         triangles=... status=ok|qhull-error-N
  */
@@ -67,7 +67,8 @@ static long collect(qhT *qh, int numpoints, uint32_t **out) {
 }
 
 int main(int argc, char **argv) {
-    const char *points = NULL, *tris = NULL;
+    char *points = NULL;
+    const char *tris = NULL;
     int runs = 3;
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!strcmp(argv[i], "--points"))
@@ -77,10 +78,23 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--tris"))
             tris = argv[i + 1];
     }
+    char *paths[64];
+    double *sets[64];
+    int files = bu_split_paths(points, paths, 64);
     size_t n = 0;
-    double *xy = points ? bu_read_points(points, &n) : NULL;
-    if (!xy || n < 3 || runs < 1 || n > 0x7fffffff) {
-        fputs("usage: peer_qhull --points FILE [--runs R] [--tris FILE]\n",
+    for (int f = 0; f < files; f++) {
+        size_t m = 0;
+        sets[f] = bu_read_points(paths[f], &m);
+        if (!sets[f] || (f > 0 && m != n)) {
+            files = f + (sets[f] != NULL);
+            n = 0;
+            break;
+        }
+        n = m;
+    }
+    if (files == 0 || n < 3 || runs < 1 || n > 0x7fffffff) {
+        fputs("usage: peer_qhull --points FILE[,FILE...] [--runs R] "
+              "[--tris FILE]\n",
               stderr);
         return 2;
     }
@@ -96,7 +110,8 @@ int main(int argc, char **argv) {
         long base = r == 0 ? bu_peak_reset() : -1;
         qh_zero(qh, stderr);
         uint64_t t0 = bu_now_ns();
-        err = qh_new_qhull(qh, 2, (int)n, xy, False, flags, NULL, stderr);
+        err = qh_new_qhull(qh, 2, (int)n, sets[r % files], False, flags, NULL,
+                           stderr);
         uint64_t t1 = bu_now_ns();
         ms[r] = (double)(t1 - t0) / 1e6;
         if (r == 0 && !err) {
@@ -124,6 +139,7 @@ int main(int argc, char **argv) {
            n, med, min_ms, runs, peak >= 0 ? peak / (double)n : -1.0, nt,
            nt >= 0 ? "ok" : "write-failed");
     free(ms);
-    free(xy);
+    for (int f = 0; f < files; f++)
+        free(sets[f]);
     return nt >= 0 ? 0 : 1;
 }

@@ -295,21 +295,6 @@ fail:
     return -1;
 }
 
-/* Adds site x to the increasing triple t (EMPTY marks free slots), keeping
- * the three smallest distinct values. */
-static void insert3(uint32_t *t, uint32_t x) {
-    if (x == t[0] || x == t[1] || x == t[2]) return;
-    if (x < t[0]) {
-        t[2] = t[1];
-        t[1] = t[0];
-        t[0] = x;
-    } else if (x < t[1]) {
-        t[2] = t[1];
-        t[1] = x;
-    } else if (x < t[2]) {
-        t[2] = x;
-    }
-}
 
 /* A site of the triple t other than a and b (one exists: t is three
  * distinct sites). */
@@ -451,8 +436,8 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
         for (int k = 0; k < 2; k++) {
             CONTRACT(en[k] == VOR_NONE || (en[k] >= 0 && (size_t)en[k] < nv));
             if (en[k] >= 0) {
-                insert3(vs + 3 * (size_t)en[k], ab[0]);
-                insert3(vs + 3 * (size_t)en[k], ab[1]);
+                vor__min3_add(vs + 3 * (size_t)en[k], ab[0]);
+                vor__min3_add(vs + 3 * (size_t)en[k], ab[1]);
             }
         }
         CONTRACT(en[0] < 0 || en[0] != en[1]); /* no zero-length segment */

@@ -197,6 +197,23 @@ vor_status vor__diagram_build(const vor_sites *s, size_t n_vertices,
                               uint32_t *edges, int32_t *ends, size_t n_edges,
                               vor_diagram **out);
 
+/* Adds site x to t, the (at most three) smallest distinct sites seen so
+ * far in increasing order, UINT32_MAX marking free slots. For a vertex's
+ * defining sites: the three smallest on its circle. */
+static inline void vor__min3_add(uint32_t *t, uint32_t x) {
+    if (x == t[0] || x == t[1] || x == t[2]) return;
+    if (x < t[0]) {
+        t[2] = t[1];
+        t[1] = t[0];
+        t[0] = x;
+    } else if (x < t[1]) {
+        t[2] = t[1];
+        t[1] = x;
+    } else if (x < t[2]) {
+        t[2] = x;
+    }
+}
+
 /* Non-zero if all sites are collinear (or n < 3). */
 int vor__all_collinear(const vor_sites *s);
 

@@ -588,21 +588,6 @@ static uint32_t uf_find(uint32_t *root, uint32_t t) {
     return t;
 }
 
-/* Adds site s to the (at most three, increasing, UINT32_MAX-padded)
- * smallest sites in m, unless it is there. */
-static void min3_add(uint32_t *m, uint32_t s) {
-    if (s == m[0] || s == m[1] || s == m[2]) return;
-    if (s < m[0]) {
-        m[2] = m[1];
-        m[1] = m[0];
-        m[0] = s;
-    } else if (s < m[1]) {
-        m[2] = m[1];
-        m[1] = s;
-    } else if (s < m[2]) {
-        m[2] = s;
-    }
-}
 
 /* See above. Recounts the cells (count) without the diagonals. PASS_OK,
  * PASS_NOMEM, or PASS_BROKEN if an edge is not locally Delaunay. */
@@ -653,9 +638,9 @@ static int merge_prepare(dual *D) {
             np++;
             m[0] = m[1] = m[2] = UINT32_MAX;
         }
-        min3_add(m, order[v[0]]);
-        min3_add(m, order[v[1]]);
-        min3_add(m, order[v[2]]);
+        vor__min3_add(m, order[v[0]]);
+        vor__min3_add(m, order[v[1]]);
+        vor__min3_add(m, order[v[2]]);
     }
     D->n_poly = np;
     D->merge = 1;

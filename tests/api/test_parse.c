@@ -348,8 +348,8 @@ static void test_json_refusals(void **state) {
          "give either points or generate, not both"},
         {"{\"generate\": {\"distribution\": \"poisson\", \"n\": 5}}", API_INVALID,
          "/generate/distribution", 0,
-         "unknown distribution \"poisson\"; valid: uniform, gaussian, random, "
-         "grid, circle, clustered"},
+         "unknown distribution \"poisson\"; valid: uniform, gaussian, pixels "
+         "(alias random), grid, circle, clustered, lognormal, outlier, decades"},
         {"{\"generate\": {\"distribution\": \"grid\"}}", API_INVALID,
          "/generate/n", 0, "generate.n (the number of points) is required"},
         {"{\"generate\": {\"n\": -4}}", API_INVALID, "/generate/n", 0,

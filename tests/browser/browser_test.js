@@ -5,11 +5,20 @@
  * GET / in Debian's Chromium (through playwright-core, headless, a fresh
  * profile) and acts as a person would: generates points and computes with
  * each algorithm, uploads a CSV file and a broken one, drops a JSON file,
- * clicks points in, pans and zooms, compares the three algorithms, runs a
- * small size sweep, downloads an SVG, draws 10^5 points. Each step asserts
- * on what the page shows (text, table rows, canvas pixels) and on the
- * state it exposes in window.voronoid; any console error, uncaught page
- * error or failed request fails the run. Screenshots go to VOR_BROWSER_OUT
+ * clicks points in, pans and zooms, changes N and seed (recomputed, or
+ * marked out of date), compares the three algorithms (an answer shaped as
+ * the contract says, with repeat, spread, runs and counts, and the
+ * service's own, with or without repeat), runs a sweep of two
+ * distributions and exports it as CSV, PNG and SVG, downloads the
+ * diagram, lays the page out on a phone, draws 10^5 points and then 10^6
+ * with every layer on while typing and dragging (the long tasks the
+ * browser reports are printed, never judged: the test asserts that input
+ * was handled while the frame was being drawn). Each step asserts on what
+ * the page shows (text, table rows, canvas pixels) and on the state it
+ * exposes in window.voronoid; any console error, uncaught page error or
+ * failed request fails the run. The page's own files are served with the
+ * service's Content-Security-Policy (added by the test where the daemon
+ * does not send it), so a policy violation fails the run too. Screenshots go to VOR_BROWSER_OUT
  * (default $B/browser). The daemon is stopped at the end, also on failure.
  *
  * Environment: VOR_DAEMON (daemon binary), VOR_WEB_DIR (serve the page from
@@ -36,6 +45,8 @@ const WEB_DIR = process.env.VOR_WEB_DIR ? path.resolve(ROOT, process.env.VOR_WEB
 const STEP_TIMEOUT = 60000;
 
 const ALGORITHMS = ['fortune', 'bowyer-watson', 'flip'];
+const CSP = "default-src 'self'; script-src 'self'; style-src 'self'; connect-src 'self'; " +
+    "img-src 'self' data: blob:; worker-src 'self'; frame-ancestors 'none'";
 
 /* ---- the daemon ------------------------------------------------------ */
 
@@ -132,7 +143,12 @@ async function state(page) {
             downloadCount: v.downloadCount,
             edgesDrawn: v.edgesDrawn,
             sitesDrawn: v.sitesDrawn,
-            trianglesDrawn: v.trianglesDrawn,
+            delaunayEdgesDrawn: v.delaunayEdgesDrawn,
+            lod: v.lod,
+            drawing: v.drawing,
+            frameSlices: v.frameSlices,
+            frameRasterMs: v.frameRasterMs,
+            decodedIn: v.decodedIn,
             lastError: v.lastError,
             view: v.view,
             timings: v.timings,
@@ -143,12 +159,13 @@ async function state(page) {
 }
 
 /* Waits until the page has finished a compute after `before` (a count from
- * state()) and is idle; fails early if an error shows up instead. */
-async function waitComputed(page, before) {
+ * state()) and drawn it, and is idle; fails early if an error shows up
+ * instead. */
+async function waitComputed(page, before, timeout) {
     await page.waitForFunction((b) => {
         const v = window.voronoid;
-        return !v.busy && (v.computeCount > b.computeCount || v.errorCount > b.errorCount);
-    }, before, { timeout: STEP_TIMEOUT });
+        return !v.busy && !v.drawing && (v.computeCount > b.computeCount || v.errorCount > b.errorCount);
+    }, before, { timeout: timeout || STEP_TIMEOUT });
     const s = await state(page);
     if (s.errorCount > before.errorCount) {
         throw new Error('the page shows an error: ' + JSON.stringify(s.lastError));
@@ -158,13 +175,19 @@ async function waitComputed(page, before) {
 
 /* Waits for fn(arg) in the page, failing at once if the page shows a new
  * error meanwhile (errors counted from `errorsBefore`). */
-async function waitOrError(page, fn, arg, errorsBefore) {
-    const ok = await page.waitForFunction(([src, a, e]) => {
-        const v = window.voronoid;
-        if (v.errorCount > e && !v.busy) return 'error';
-        return (0, eval)('(' + src + ')')(a) ? 'ok' : false;
-    }, [fn.toString(), arg, errorsBefore], { timeout: STEP_TIMEOUT });
-    if ((await ok.jsonValue()) === 'error') {
+async function waitOrError(page, fn, arg, errorsBefore, timeout) {
+    /* two waits raced, not one combined function: the page's policy
+     * forbids evaluating a function passed as a string */
+    const opts = { timeout: timeout || STEP_TIMEOUT, polling: 50 };
+    const error = page.waitForFunction((e) => window.voronoid && window.voronoid.errorCount > e && !window.voronoid.busy,
+        errorsBefore, opts)
+        .then(() => 'error');
+    const done = page.waitForFunction(fn, arg, opts).then(() => 'ok');
+    const first = await Promise.race([done, error]);
+    /* the loser keeps polling until its timeout; its rejection is of no interest */
+    done.catch(() => {});
+    error.catch(() => {});
+    if (first === 'error') {
         throw new Error('the page shows an error: ' + JSON.stringify((await state(page)).lastError));
     }
 }
@@ -227,9 +250,20 @@ async function main() {
             headless: true,
             args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
                 '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-            viewport: { width: 1440, height: 900 },
+            viewport: { width: 1280, height: 800 },
             deviceScaleFactor: 1,
             acceptDownloads: true,
+        });
+        /* The page must run under the service's Content-Security-Policy
+         * (no inline script or style, no eval, workers and fetches from
+         * its own origin only). Where a daemon does not send it, the test
+         * adds it to the page's own files, so the page is always tried
+         * under it; any violation is a console error, which fails the run. */
+        await context.route((url) => url.pathname === '/' || /^\/[A-Za-z0-9_-]+\.(html|js|css)$/.test(url.pathname), async (route) => {
+            const resp = await route.fetch();
+            const headers = resp.headers();
+            if (!headers['content-security-policy']) headers['content-security-policy'] = CSP;
+            await route.fulfill({ response: resp, headers: headers });
         });
         const page = context.pages()[0] || await context.newPage();
         page.setDefaultTimeout(STEP_TIMEOUT);
@@ -251,7 +285,7 @@ async function main() {
             assert(resp && resp.status() === 200, 'GET / answered ' + (resp && resp.status()));
             assert(/text\/html/.test(resp.headers()['content-type'] || ''), 'GET / is not text/html');
             assert((await page.title()).includes('voronoid'), 'title does not name voronoid');
-            await page.waitForFunction(() => window.voronoid && !window.voronoid.busy &&
+            await page.waitForFunction(() => window.voronoid && !window.voronoid.busy && !window.voronoid.drawing &&
                 (window.voronoid.computeCount > 0 || window.voronoid.errorCount > 0));
             const s = await state(page);
             assert(s.computeCount === 1 && !s.lastError, 'the first compute failed: ' + JSON.stringify(s.lastError));
@@ -263,10 +297,24 @@ async function main() {
             /* the daemon serves the page as it is in the tree (a stale
              * embedded copy means the binary needs a rebuild) */
             const dir = WEB_DIR || path.join(ROOT, 'web');
-            for (const f of ['index.html', 'app.js', 'style.css']) {
-                const served = await page.evaluate((u) => fetch(u).then((r) => r.text()), base + (f === 'index.html' ? '' : f));
-                assert(served === fs.readFileSync(path.join(dir, f), 'utf8'),
+            const files = fs.readdirSync(dir).filter((f) => fs.statSync(path.join(dir, f)).isFile());
+            assert(files.includes('main.js') && files.includes('index.html'), 'web files: ' + files.join(', '));
+            for (const f of files) {
+                const served = await page.evaluate((u) => fetch(u).then(async (r) =>
+                    ({ status: r.status, type: r.headers.get('content-type') || '', text: await r.text() })),
+                base + (f === 'index.html' ? '' : f));
+                assert(served.status === 200, f + ' answers ' + served.status);
+                assert(served.text === fs.readFileSync(path.join(dir, f), 'utf8'),
                     f + ' as served differs from ' + path.relative(ROOT, path.join(dir, f)) + ' (rebuild the daemon: make)');
+                /* a module script runs only when served as JavaScript */
+                if (f.endsWith('.js')) assert(/^text\/javascript\b/.test(served.type), f + ' is served as ' + served.type);
+            }
+            /* every module is one of these files, loaded by the page from its own origin */
+            const loaded = await page.evaluate(() => performance.getEntriesByType('resource')
+                .map((e) => new URL(e.name)).filter((u) => u.origin === location.origin && /\.js$/.test(u.pathname))
+                .map((u) => u.pathname.slice(1)));
+            for (const f of files.filter((x) => x.endsWith('.js'))) {
+                assert(loaded.includes(f), f + ' was not loaded by the page (loaded: ' + loaded.join(', ') + ')');
             }
         });
 
@@ -314,7 +362,15 @@ async function main() {
              * there are at least as many triangles as vertices */
             assert(s.result.n_triangles >= s.result.n_vertices && s.result.n_triangles > 1900,
                 'expected about 2n triangles, got ' + s.result.n_triangles);
-            assert(s.trianglesDrawn === s.result.n_triangles, 'triangles drawn ' + s.trianglesDrawn);
+            /* each Delaunay edge is drawn once: a triangulation of n sites
+             * with h on the hull (h rays) has 3n - 3 - h edges, each in two
+             * triangles but the h on the hull, (3T + h) / 2 */
+            const n = s.result.n_sites, h = s.result.n_rays;
+            assert(s.delaunayEdgesDrawn === 3 * n - 3 - h && 2 * s.delaunayEdgesDrawn === 3 * s.result.n_triangles + h,
+                'Delaunay edges drawn ' + s.delaunayEdgesDrawn + ' for ' + n + ' sites, ' + h + ' on the hull, ' +
+                s.result.n_triangles + ' triangles');
+            assert(s.lod.delaunay.pixels < s.delaunayEdgesDrawn / 10, 'at 1000 sites the Delaunay edges should be lines: ' +
+                JSON.stringify(s.lod));
             /* edges off: the blue pixels must go, so they were the edges */
             const withEdges = await canvasPixels(page, 'diagram');
             await page.uncheck('#show-edges');
@@ -344,7 +400,7 @@ async function main() {
             await page.screenshot({ path: path.join(OUT, 'delaunay.png') });
 
             await page.uncheck('#show-delaunay');
-            await page.waitForFunction(() => window.voronoid.trianglesDrawn === 0);
+            await page.waitForFunction(() => window.voronoid.delaunayEdgesDrawn === 0);
         });
 
         await step('on a HiDPI screen the canvas has device pixels', async () => {
@@ -354,11 +410,11 @@ async function main() {
             const cdp = await context.newCDPSession(page);
             const reload = async () => {
                 await page.reload({ waitUntil: 'load' });
-                await page.waitForFunction(() => window.voronoid && !window.voronoid.busy &&
+                await page.waitForFunction(() => window.voronoid && !window.voronoid.busy && !window.voronoid.drawing &&
                     (window.voronoid.computeCount > 0 || window.voronoid.errorCount > 0));
             };
             try {
-                await cdp.send('Emulation.setDeviceMetricsOverride', { width: 1440, height: 900, deviceScaleFactor: 2, mobile: false });
+                await cdp.send('Emulation.setDeviceMetricsOverride', { width: 1280, height: 800, deviceScaleFactor: 2, mobile: false });
                 await reload();
                 const dims = await page.evaluate(() => {
                     const c = document.getElementById('diagram');
@@ -477,15 +533,117 @@ async function main() {
             assert((await canvasPixels(page, 'diagram')).edge > 300, 'no edges on the canvas');
         });
 
-        await step('compare runs all three algorithms and they agree', async () => {
+        await step('changing N or seed recomputes a small diagram and marks a large one out of date', async () => {
+            await page.fill('#n', '1000');
+            let before = await state(page);
+            await page.click('#compute');
+            await waitComputed(page, before);
+            /* a new seed for 1000 points: recomputed without pressing anything */
+            before = await state(page);
+            await page.fill('#seed', '11');
+            const s = await waitComputed(page, before);
+            assert(s.result.n_sites === 1000, 'recomputed ' + s.result.n_sites + ' sites');
+            assert(!(await page.evaluate(() => window.voronoid.stale)), 'marked stale after the recompute');
+            assert(await page.locator('#stale').isHidden(), 'the out-of-date note shows');
+            assert((await text(page, '#source')).includes('seed 11'), 'source line ' + await text(page, '#source'));
+            /* typing several digits of N computes once, for the last value */
+            before = await state(page);
+            await page.locator('#n').fill('');
+            await page.locator('#n').pressSequentially('1500', { delay: 30 });
+            const s2 = await waitComputed(page, before);
+            await page.waitForTimeout(600);
+            const s3 = await state(page);
+            assert(s2.result.n_sites === 1500 && s3.computeCount === before.computeCount + 1,
+                'typing 1500 gave ' + (s3.computeCount - before.computeCount) + ' computes, the last of ' + s3.result.n_sites + ' sites');
+            /* 50000 points: not recomputed, marked out of date */
+            before = await state(page);
+            await page.fill('#n', '50000');
+            await page.waitForFunction(() => window.voronoid.stale);
+            await page.waitForTimeout(700); /* longer than the recompute's delay */
+            const stale = await state(page);
+            assert(stale.computeCount === before.computeCount && !stale.busy, 'a large N was recomputed by itself');
+            assert(await page.locator('#stale').isVisible(), 'no out-of-date note');
+            const note = await text(page, '#stale-text');
+            assert(/N = 1,500/.test(note) && /N = 50,000/.test(note), 'the note does not say what is shown and what would be: ' + note);
+            assert(await page.evaluate(() => document.getElementById('canvas-wrap').classList.contains('stale')), 'the canvas is not dimmed');
+            await page.screenshot({ path: path.join(OUT, 'stale.png') });
+            /* the note's button computes */
+            await page.click('#stale-compute');
+            const s4 = await waitComputed(page, before);
+            assert(s4.result.n_sites === 50000, 'computed ' + s4.result.n_sites);
+            assert(await page.locator('#stale').isHidden() && !(await page.evaluate(() => window.voronoid.stale)), 'still marked stale');
+        });
+
+        await step('compare shows each algorithm\'s median, spread, runs and counts (contract answer)', async () => {
+            /* an answer shaped as the contract says (openapi.yaml,
+             * names.md): repeat, spread per phase, runs_ms, counts */
+            let sent = null;
+            const answer = {
+                n_input: 1000, n_sites: 1000, agree: true, disagreement: null, repeat: 5,
+                algorithms: [
+                    ['fortune', 2.5, 2.25, 3.5, [2.5, 2.25, 3.5, 2.4, 2.6], { site_events: 1000, circle_events: 2400, false_alarms: 410, beach_max: 61 }],
+                    ['bowyer-watson', 1.5, 1.25, 4.75, [1.5, 4.75, 1.25, 1.4, 1.6], { orient2d: 12000, incircle: 9000, walk_steps: 5300 }],
+                    ['flip', 1.75, 1.5, 2, [1.75, 1.5, 2, 1.7, 1.8], { orient2d: 11000, flips: 2900 }],
+                ].map(([alg, med, min, max, runs, counts]) => ({
+                    algorithm: alg, status: 'ok', n_vertices: 1978, n_edges: 2977, n_rays: 20,
+                    timings: { queue_ms: 0, parse_ms: 0, prepare_ms: 0.02, compute_ms: med, clip_ms: 0, serialize_ms: 0, total_ms: med + 0.1 },
+                    spread: { compute_ms: { median: med, min: min, max: max }, total_ms: { median: med + 0.1, min: min + 0.1, max: max + 0.1 } },
+                    runs_ms: runs, counts: counts,
+                })),
+                timings: { queue_ms: 0, parse_ms: 0.02, prepare_ms: 0, compute_ms: 0, clip_ms: 0, serialize_ms: 0, total_ms: 30 },
+            };
+            await page.route('**/compare', async (route) => {
+                sent = route.request().postDataJSON();
+                await route.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(answer) });
+            });
+            try {
+                await page.selectOption('#repeat', '5');
+                const before = await state(page);
+                await page.click('#compare');
+                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            } finally {
+                await page.unroute('**/compare');
+            }
+            assert(sent && sent.repeat === 5 && sent.generate, 'the request did not ask for 5 runs: ' + JSON.stringify(sent));
+            /* the median, and under it the fastest and slowest run */
+            const rows = await page.locator('#compare-table tbody tr').evaluateAll((trs) => trs.map((tr) =>
+                [tr.cells[1].firstChild.textContent, (tr.cells[1].querySelector('.spread') || {}).textContent]));
+            assert(rows.length === 3, 'rows ' + JSON.stringify(rows));
+            assert(rows[0][0] === '2.50 ms' && rows[0][1] === '2.25 ms – 3.50 ms', 'Fortune: ' + rows[0].join(' | '));
+            assert(rows[1][0] === '1.50 ms' && rows[1][1] === '1.25 ms – 4.75 ms', 'Bowyer–Watson: ' + rows[1].join(' | '));
+            assert(rows[2][0] === '1.75 ms' && rows[2][1] === '1.50 ms – 2.00 ms', 'Flipping: ' + rows[2].join(' | '));
+            assert(await page.locator('#compare-table td.best').evaluate((td) => td.firstChild.textContent) === '1.50 ms',
+                'fastest median not marked');
+            assert(/median of 5 runs/.test(await text(page, '#compare-note')), 'note: ' + await text(page, '#compare-note'));
+            /* every count of every algorithm, named as the service names it */
+            const counts = await page.locator('#counts-table tbody tr').evaluateAll((trs) => trs.map((tr) =>
+                [tr.dataset.count].concat(Array.from(tr.cells).slice(1).map((c) => c.textContent.trim()))));
+            const names = counts.map((r) => r[0]);
+            for (const k of ['site_events', 'circle_events', 'false_alarms', 'beach_max', 'orient2d', 'incircle', 'walk_steps', 'flips']) {
+                assert(names.includes(k), 'count ' + k + ' not shown: ' + names.join(', '));
+            }
+            const orient = counts.find((r) => r[0] === 'orient2d');
+            assert(orient[1] === '–' && orient[2] === '12,00012.0 /site' && orient[3] === '11,00011.0 /site', 'orient2d row ' + orient.join(' | '));
+            const bars = await canvasPixels(page, 'compare-chart');
+            assert(bars.colour > 300, 'the bar chart is empty (' + bars.colour + ' coloured pixels)');
+            await page.locator('aside.analysis').screenshot({ path: path.join(OUT, 'compare-spread.png') });
+        });
+
+        await step('compare runs all three algorithms on the service and they agree', async () => {
             await page.fill('#n', '1000');
             await page.fill('#seed', '7');
             let before = await state(page);
             await page.click('#generate');
             await waitComputed(page, before);
-            before = await state(page);
-            await page.click('#compare');
-            await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            await page.selectOption('#repeat', '3');
+            allowHttpErrors++; /* a service without repeat answers 400 once */
+            try {
+                before = await state(page);
+                await page.click('#compare');
+                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
             const c = await page.evaluate(() => window.voronoid.lastCompare);
             assert(c, 'no compare result: ' + JSON.stringify((await state(page)).lastError));
             const rows = await page.locator('#compare-table tbody tr').count();
@@ -497,28 +655,144 @@ async function main() {
             assert(c.agree === true, 'the algorithms disagree: ' + c.disagreement);
             const agree = await text(page, '#agree');
             assert(/identical/.test(agree), 'agreement line "' + agree + '"');
+            const note = await text(page, '#compare-note');
+            if (c.repeatDropped) {
+                /* an older service: one run each, and the page says so */
+                assert(/does not take repeat/.test(note), 'note: ' + note);
+                console.log('     this service does not take repeat: one run per algorithm');
+            } else {
+                assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
+                for (const r of c.rows) {
+                    const t = r.spread && r.spread.compute_ms;
+                    assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
+                    assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
+                }
+                assert(/median of 3 runs/.test(note), 'note: ' + note);
+                /* three runs of real timings: a spread under each median (or
+                 * none where all three took the same time) */
+                const spreads = await page.locator('#compare-table .spread').allInnerTexts();
+                assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
+            }
+            /* a time cell: the median, and under it (with repeats) the
+             * spread */
             const cells = await page.locator('#compare-table tbody td').allInnerTexts();
-            assert(cells.filter((t) => TIME_RE.test(t.trim())).length >= 3, 'times in the table: ' + cells.join(' | '));
+            assert(cells.filter((t) => TIME_RE.test(t.trim().split('\n')[0].trim())).length >= 3,
+                'times in the table: ' + cells.join(' | '));
             const bars = await canvasPixels(page, 'compare-chart');
             assert(bars.colour > 300, 'the bar chart is empty (' + bars.colour + ' coloured pixels)');
         });
 
-        await step('a size sweep fills the table and the log-log plot', async () => {
-            await page.fill('#sweep-sizes', '500, 1000, 2000, 4000');
+        await step('the sweep fits slopes only where they mean something (oracle)', async () => {
+            /* the page's fit against the same least squares done here */
+            const pts = [[1000, 1.1], [2000, 2.3], [5000, 5.2], [10000, 11.5], [20000, 22.0]];
+            const got = await page.evaluate((p) => import('./charts.js').then((m) => [m.fitSlope(p), m.fitSlope(p.slice(0, 2))]), pts);
+            const xs = pts.map((q) => Math.log(q[0])), ys = pts.map((q) => Math.log(q[1]));
+            const mx = xs.reduce((a, b) => a + b) / 5, my = ys.reduce((a, b) => a + b) / 5;
+            const sxx = xs.reduce((a, x) => a + (x - mx) ** 2, 0);
+            const slope = xs.reduce((a, x, i) => a + (x - mx) * (ys[i] - my), 0) / sxx;
+            const ssr = xs.reduce((a, x, i) => a + (ys[i] - (my + slope * (x - mx))) ** 2, 0);
+            const ci = 3.182 * Math.sqrt(ssr / 3 / sxx); /* Student's t, 3 degrees of freedom, 95% */
+            assert(Math.abs(got[0].slope - slope) < 1e-12 && Math.abs(got[0].ci - ci) < 1e-12 && got[0].m === 5,
+                'fit ' + JSON.stringify(got[0]) + ', expected slope ' + slope + ' ± ' + ci);
+            assert(got[1] === null, 'two sizes gave a slope: ' + JSON.stringify(got[1]));
+        });
+
+        await step('a sweep of two distributions: table, plot with spread and slopes, CSV, PNG and SVG', async () => {
+            await page.selectOption('#repeat', '3');
+            for (const el of await page.locator('input[name=sweep-dist]').all()) await el.uncheck();
+            await page.check('input[name=sweep-dist][value=uniform]');
+            await page.check('input[name=sweep-dist][value=gaussian]');
+            await page.fill('#sweep-sizes', '500, 1000, 2000, 5000, 10000, 20000');
             const before = await state(page);
-            await page.click('#sweep');
-            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
+            allowHttpErrors++;
+            try {
+                await page.click('#sweep');
+                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
             const sw = await page.evaluate(() => window.voronoid.lastSweep);
             assert(sw && sw.done, 'the sweep did not finish: ' + JSON.stringify((await state(page)).lastError));
-            assert(sw.rows.map((r) => r.n).join() === '500,1000,2000,4000', 'sizes ' + sw.rows.map((r) => r.n));
+            /* sizes in order, the two distributions interleaved at each */
+            assert(sw.rows.map((r) => r.distribution[0] + r.n).join() ===
+                'u500,g500,u1000,g1000,u2000,g2000,u5000,g5000,u10000,g10000,u20000,g20000', 'rows ' + sw.rows.map((r) => r.distribution + r.n));
             for (const r of sw.rows) {
-                for (const a of ALGORITHMS) assert(typeof r.ms[a] === 'number', 'N=' + r.n + ' ' + a + ': ' + r.status[a]);
-                assert(r.agree, 'N=' + r.n + ': the algorithms disagree');
+                for (const a of ALGORITHMS) {
+                    const t = r.times[a];
+                    assert(t && t.min <= t.median && t.median <= t.max, r.distribution + ' ' + r.n + ' ' + a + ': ' + JSON.stringify(t));
+                    if (!sw.repeatDropped) assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
+                }
+                assert(r.agree, r.distribution + ' N=' + r.n + ': the algorithms disagree');
             }
-            assert(await page.locator('#sweep-table tbody tr').count() === 4, 'sweep table rows');
+            assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 12, 'sweep table rows');
+            /* a slope exactly where three sizes have N >= 1000 and t >= 1 ms */
+            const series = await page.evaluate(() => window.voronoid.sweepSeries);
+            assert(series.length === 6, series.length + ' series');
+            for (const s of series) {
+                const usable = sw.rows.filter((r) => r.distribution === s.distribution && r.n >= 1000 && r.times[s.algorithm].median >= 1);
+                if (usable.length >= 3) {
+                    assert(s.fit && s.fit.sizes === usable.length && s.fit.n0 >= 1000 && s.fit.ci >= 0,
+                        s.label + ': fit ' + JSON.stringify(s.fit) + ' over ' + usable.length + ' usable sizes');
+                } else {
+                    assert(s.fit === null, s.label + ': a slope from ' + usable.length + ' usable sizes');
+                }
+            }
             const plot = await canvasPixels(page, 'sweep-chart');
             assert(plot.colour > 300, 'the sweep plot has no coloured series (' + plot.colour + ')');
-            await page.screenshot({ path: path.join(OUT, 'page.png'), fullPage: true });
+            await page.locator('section[aria-labelledby=sweep-h]').screenshot({ path: path.join(OUT, 'sweep.png') });
+            await page.locator('#sweep-chart').scrollIntoViewIfNeeded();
+            await page.screenshot({ path: path.join(OUT, 'page.png') });
+
+            const download = async (id) => {
+                const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#' + id)]);
+                return { name: dl.suggestedFilename(), data: fs.readFileSync(await dl.path()) };
+            };
+            const csv = await download('sweep-csv');
+            assert(csv.name.endsWith('.csv'), 'CSV file name ' + csv.name);
+            const lines = csv.data.toString('utf8').trim().split('\n');
+            const head = lines[0].split(',');
+            assert(head.join() === 'sweep,distribution,seed,repeat,n,algorithm,status,median_ms,min_ms,max_ms,runs_ms,agree', 'CSV header ' + lines[0]);
+            assert(lines.length === 1 + 12 * 3, lines.length - 1 + ' CSV lines');
+            for (const line of lines.slice(1)) {
+                const f = Object.fromEntries(line.split(',').map((v, i) => [head[i], v]));
+                const row = sw.rows.find((r) => r.distribution === f.distribution && r.n === Number(f.n));
+                assert(row, 'CSV line for no row: ' + line);
+                const t = row.times[f.algorithm];
+                assert(Number(f.median_ms) === t.median && Number(f.min_ms) === t.min && Number(f.max_ms) === t.max,
+                    'CSV line ' + line + ' against ' + JSON.stringify(t));
+                if (!sw.repeatDropped) assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
+                assert(f.status === 'ok' && f.agree === 'yes' && f.seed === String(sw.seed), 'CSV line ' + line);
+            }
+            const png = await download('sweep-png');
+            assert(png.name.endsWith('.png') && png.data.slice(1, 4).toString() === 'PNG' && png.data.length > 5000,
+                'PNG export: ' + png.name + ', ' + png.data.length + ' bytes');
+            const svg = await download('sweep-svg');
+            const svgText = svg.data.toString('utf8');
+            assert(svg.name.endsWith('.svg') && /<svg[\s>]/.test(svgText), 'SVG export ' + svg.name);
+            assert((svgText.match(/<polyline/g) || []).length >= 6, 'SVG export: ' + (svgText.match(/<polyline/g) || []).length + ' series lines');
+            assert(/uniform · Fortune/.test(svgText) && /gaussian · Flip/.test(svgText), 'SVG export without the legend');
+            fs.writeFileSync(path.join(OUT, 'sweep-export.svg'), svgText);
+            fs.writeFileSync(path.join(OUT, 'sweep-export.png'), png.data);
+
+            /* a second sweep is added, the first stays until Clear */
+            await page.uncheck('input[name=sweep-dist][value=gaussian]');
+            await page.fill('#sweep-sizes', '1000, 2000');
+            const b2 = await state(page);
+            allowHttpErrors++;
+            try {
+                await page.click('#sweep');
+                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
+            } finally {
+                allowHttpErrors--;
+            }
+            const kept = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
+            assert(kept.sweeps === 2 && kept.series === 9, 'after a second sweep: ' + JSON.stringify(kept));
+            assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 14, 'both sweeps in the table');
+            await page.click('#sweep-clear');
+            const cleared = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
+            assert(cleared.sweeps === 0 && cleared.series === 0, 'after Clear: ' + JSON.stringify(cleared));
+            assert(await page.locator('#sweep-table').isHidden() && await page.locator('#sweep-csv').isDisabled(), 'Clear left the table or exports');
+            await page.fill('#sweep-sizes', '500, 1000, 2000, 4000');
         });
 
         await step('the JSON, GeoJSON and SVG downloads hold the diagram', async () => {
@@ -561,9 +835,24 @@ async function main() {
                 'V = ' + s.result.n_vertices + ', E = ' + s.result.n_edges + ' break Euler');
             assert(s.edgesDrawn > 290000, 'edges drawn ' + s.edgesDrawn);
             assert(s.sitesDrawn === 100000, 'sites drawn ' + s.sitesDrawn);
+            assert(s.decodedIn === 'worker', 'the answer was decoded in ' + s.decodedIn);
             const px = await canvasPixels(page, 'diagram');
             assert(px.edge > 100000, 'edge pixels ' + px.edge);
-            /* a pan redraws from the cached paths; its cost is printed, not judged */
+            /* zoomed in 27 times, the frame visits only what is in view and
+             * the edges there are long enough to be lines */
+            for (let i = 0; i < 8; i++) await page.click('#zoom-in');
+            await page.waitForFunction(() => !window.voronoid.drawing && window.voronoid.view.zoom > 0);
+            await page.waitForTimeout(400);
+            await page.waitForFunction(() => !window.voronoid.drawing);
+            const zoomed = await state(page);
+            assert(zoomed.edgesDrawn > 50 && zoomed.edgesDrawn < s.edgesDrawn / 100,
+                'zoomed in: ' + zoomed.edgesDrawn + ' edges drawn of ' + s.edgesDrawn);
+            assert(zoomed.lod.edges.pixels < zoomed.lod.edges.lines / 10, 'zoomed in, edges as pixels: ' + JSON.stringify(zoomed.lod));
+            await page.screenshot({ path: path.join(OUT, 'large-zoomed.png') });
+            await page.click('#zoom-fit');
+            await page.waitForTimeout(400);
+            await page.waitForFunction(() => !window.voronoid.drawing);
+            /* a zoom redraws from the prepared diagram; its cost is printed, not judged */
             await page.waitForTimeout(300);
             const painted = (await state(page)).timings.draw_ms;
             await page.evaluate(() => { window.voronoid.framePaintMs = 0; });
@@ -577,13 +866,117 @@ async function main() {
             await page.click('#zoom-fit');
         });
 
+        await step('10^6 points with every layer on: the page answers input while it draws', async () => {
+            /* every main-thread task over 50 ms, as the browser reports it */
+            await page.evaluate(() => {
+                window.__longTasks = [];
+                window.__longObserver = new PerformanceObserver((list) => {
+                    for (const e of list.getEntries()) window.__longTasks.push({ start: e.startTime, ms: e.duration });
+                });
+                window.__longObserver.observe({ type: 'longtask' });
+                /* an input event handled while a frame is being drawn */
+                window.__inputs = [];
+                document.getElementById('sweep-sizes').addEventListener('input', () => {
+                    window.__inputs.push({ drawing: window.voronoid.drawing, at: performance.now() });
+                });
+            });
+            for (const id of ['#show-sites', '#show-edges', '#show-delaunay', '#show-clip']) await page.check(id);
+            await page.waitForFunction(() => !window.voronoid.busy && !window.voronoid.drawing, null, { timeout: 180000 });
+            await page.fill('#n', '1000000');
+            await page.fill('#seed', '5');
+            const before = await state(page);
+            const t0 = await page.evaluate(() => performance.now());
+            await page.click('#compute');
+            /* once the diagram is on its way to the canvas, type */
+            await page.waitForFunction((b) => window.voronoid.computeCount > b.computeCount || window.voronoid.errorCount > b.errorCount,
+                before, { timeout: 180000 });
+            const typedWhile = await page.evaluate(() => window.voronoid.drawing);
+            await page.locator('#sweep-sizes').pressSequentially('1');
+            /* and drag the view */
+            const box = await page.locator('#diagram').boundingBox();
+            await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+            await page.mouse.down();
+            await page.mouse.move(box.x + box.width / 2 + 80, box.y + box.height / 2 + 40, { steps: 8 });
+            await page.mouse.up();
+            const s = await waitComputed(page, before, 180000);
+            const t1 = await page.evaluate(() => performance.now());
+            const r = await page.evaluate(() => ({ tasks: window.__longTasks, inputs: window.__inputs }));
+            await page.evaluate(() => window.__longObserver.disconnect());
+            assert(s.result.n_sites === 1000000 && s.result.format === 'binary', 'result ' + JSON.stringify(s.result).slice(0, 200));
+            assert(s.decodedIn === 'worker', 'decoded in ' + s.decodedIn);
+            assert(r.inputs.length >= 1, 'the typed key was not handled');
+            if (typedWhile) {
+                assert(r.inputs[0].drawing, 'the key typed while drawing was handled only after the frame was done');
+            }
+            assert(s.frameSlices > 1, 'the frame was drawn in ' + s.frameSlices + ' slice(s)');
+            /* at this density the diagram is plotted as pixels, not stroked */
+            assert(s.lod.edges.pixels > s.lod.edges.lines && s.lod.delaunay.pixels > s.lod.delaunay.lines &&
+                s.lod.cells.pixels > s.lod.cells.paths, 'level of detail ' + JSON.stringify(s.lod));
+            assert(s.edgesDrawn > 0.9 * s.result.n_edges, s.edgesDrawn + ' of ' + s.result.n_edges + ' edges drawn');
+            assert((await canvasPixels(page, 'diagram')).edge > 10000, 'no edges on the canvas');
+            const tasks = r.tasks.filter((t) => t.start >= t0);
+            const worst = tasks.reduce((m, t) => Math.max(m, t.ms), 0);
+            console.log('     10^6 points, every layer: ' + ((t1 - t0) / 1000).toFixed(1) + ' s from Compute to the drawn frame (server compute ' +
+                (s.timings.server_ms / 1000).toFixed(2) + ' s, round trip ' + (s.timings.roundtrip_ms / 1000).toFixed(2) +
+                ' s); frame of ' + s.frameSlices + ' slices, ' + s.frameMs.toFixed(0) + ' ms on the page\'s thread (' +
+                s.frameRasterMs.toFixed(0) + ' ms of it rasterising); long tasks (> 50 ms): ' +
+                tasks.length + ', longest ' + worst.toFixed(0) + ' ms' + (tasks.length ? ' [' + tasks.map((t) => t.ms.toFixed(0)).join(', ') + ']' : '') +
+                '; key typed ' + (typedWhile ? 'while drawing, handled while drawing: ' + r.inputs[0].drawing : 'after the frame'));
+            await page.screenshot({ path: path.join(OUT, 'million.png') });
+            await page.fill('#sweep-sizes', '500, 1000, 2000, 4000');
+            for (const id of ['#show-delaunay', '#show-clip']) await page.uncheck(id);
+            await page.fill('#n', '1000');
+            before.computeCount = (await state(page)).computeCount;
+            await page.click('#compute');
+            await waitComputed(page, before);
+        });
+
         await step('narrow window layout', async () => {
             await page.setViewportSize({ width: 900, height: 800 });
             await page.waitForFunction(() => window.voronoid.view && document.getElementById('diagram').clientWidth < 700);
             const px = await canvasPixels(page, 'diagram');
             assert(px.edge > 1000, 'the diagram is not drawn after a resize');
             await page.screenshot({ path: path.join(OUT, 'narrow.png'), fullPage: true });
-            await page.setViewportSize({ width: 1440, height: 900 });
+            await page.setViewportSize({ width: 1280, height: 800 });
+        });
+
+        await step('on a phone (390x844) the diagram comes first and Compute brings it into view', async () => {
+            await page.setViewportSize({ width: 390, height: 844 });
+            try {
+                await page.goto(base, { waitUntil: 'load' });
+                await page.waitForFunction(() => window.voronoid && window.voronoid.computeCount > 0 &&
+                    !window.voronoid.busy && !window.voronoid.drawing);
+                const inView = () => page.evaluate(() => {
+                    const r = document.getElementById('diagram').getBoundingClientRect();
+                    return { top: r.top, bottom: r.bottom, height: r.height, width: r.width, vh: window.innerHeight };
+                });
+                let r = await inView();
+                assert(r.top >= 0 && r.top < r.vh && r.bottom <= r.vh, 'the canvas is not within the first screen: ' + JSON.stringify(r));
+                assert(r.width >= 380 && r.height >= 300, 'the canvas is small: ' + JSON.stringify(r));
+                assert((await canvasPixels(page, 'diagram')).edge > 5000, 'no diagram on the first screen');
+                /* the controls come after the diagram */
+                const order = await page.evaluate(() => ['view', 'compute', 'compare'].map((id) =>
+                    document.getElementById(id).getBoundingClientRect().top + window.scrollY));
+                assert(order[0] < order[1] && order[1] < order[2], 'diagram, controls, compare out of order: ' + order);
+                await page.screenshot({ path: path.join(OUT, 'phone.png') });
+                /* Compute, pressed from below the diagram, brings it back into view */
+                await page.fill('#n', '3000');
+                await page.locator('#compute').scrollIntoViewIfNeeded();
+                r = await inView();
+                assert(r.top < 0, 'the canvas should be scrolled away at the Compute button: ' + JSON.stringify(r));
+                const before = await state(page);
+                await page.click('#compute');
+                const s = await waitComputed(page, before);
+                assert(s.result.n_sites === 3000, 'computed ' + s.result.n_sites);
+                await page.waitForFunction(() => {
+                    const t = document.getElementById('diagram').getBoundingClientRect().top;
+                    return t >= 0 && t < window.innerHeight / 2;
+                });
+                await page.screenshot({ path: path.join(OUT, 'phone-after-compute.png') });
+                await page.screenshot({ path: path.join(OUT, 'phone-full.png'), fullPage: true });
+            } finally {
+                await page.setViewportSize({ width: 1280, height: 800 });
+            }
         });
 
         await step('no console errors, page errors or failed requests', async () => {

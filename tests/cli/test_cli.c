@@ -511,6 +511,38 @@ static void test_trace_and_counts(void **state) {
     run_free(&r);
 }
 
+/* The distributions beyond the first six, and the alias: random is
+ * pixels, point for point; the skewed sets give agreeing diagrams. */
+static void test_generate_distributions(void **state) {
+    (void)state;
+    NEED_CLI();
+    run a = RUN(NULL, "-g", "random:2000:5", "-a", "flip", "--include", "vertices");
+    run b = RUN(NULL, "-g", "pixels:2000:5", "-a", "flip", "--include", "vertices");
+    expect_status(&a, 0);
+    expect_status(&b, 0);
+    json_t *ja = json_out(&a), *jb = json_out(&b);
+    assert_true(json_array_size(json_object_get(ja, "vertices")) > 1000);
+    assert_true(json_equal(json_object_get(ja, "vertices"), json_object_get(jb, "vertices")));
+    json_decref(ja);
+    json_decref(jb);
+    run_free(&a);
+    run_free(&b);
+    static const char *const gens[] = {"lognormal:3000:2", "outlier:3000:2",
+                                       "decades:3000:2", "pixels:3000:2"};
+    for (size_t i = 0; i < sizeof gens / sizeof gens[0]; i++) {
+        run r = RUN(NULL, "--compare", "-g", gens[i]);
+        expect_status(&r, 0);
+        json_t *j = json_out(&r);
+        assert_int_equal(jint(j, "n_input"), 3000);
+        if (!json_is_true(json_object_get(j, "agree"))) {
+            fail_msg("%s: the algorithms disagree: %s", gens[i],
+                     json_string_value(json_object_get(j, "disagreement")));
+        }
+        json_decref(j);
+        run_free(&r);
+    }
+}
+
 static void test_input_errors(void **state) {
     (void)state;
     NEED_CLI();
@@ -590,8 +622,10 @@ static void test_usage_errors(void **state) {
     expect_status(&r, 0);
     static const char *const documented[] = {"--algorithm", "--bounds", "--format",
                                              "--input", "--include", "--generate",
-                                             "--compare", "--repeat", "timings",
-                                             "--trace", "counts", "Exit status"};
+                                             "--compare", "--repeat", "timings", "Exit status",
+                                             "uniform", "gaussian", "pixels", "random",
+                                             "grid", "circle", "clustered", "lognormal",
+                                             "outlier", "decades", "--trace", "counts"};
     for (size_t i = 0; i < sizeof documented / sizeof documented[0]; i++) {
         if (strstr(r.out, documented[i]) == NULL) fail_msg("--help lacks %s", documented[i]);
     }
@@ -604,6 +638,7 @@ int main(void) {
         cmocka_unit_test(test_json_file_and_stdin),
         cmocka_unit_test(test_binary_file),
         cmocka_unit_test(test_generate_and_formats),
+        cmocka_unit_test(test_generate_distributions),
         cmocka_unit_test(test_compare),
         cmocka_unit_test(test_trace_and_counts),
         cmocka_unit_test(test_trailing_newline),

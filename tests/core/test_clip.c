@@ -60,11 +60,19 @@ static double cross3(const double *o, const double *a, const double *b) {
            ((a[1] - o[1]) * sc) * ((b[0] - o[0]) * sc);
 }
 
-/* Point p inside (or on, within tol) the closed convex ccw ring of m + 1
- * points. */
-static int in_ring(const double *ring, size_t m, const double *p, double tol) {
-    for (size_t u = 0; u < m; u++)
-        if (cross3(ring + 2 * u, ring + 2 * u + 2, p) < -tol) return 0;
+/* Point p inside the closed convex ccw ring of m + 1 points, or outside by
+ * at most dtol (a distance, in scaled units) plus the rounding of the
+ * computed corners (atol, an area: a corner's error times p's distance).
+ * The tolerance is a distance and not a fixed area: against a tiny cell
+ * (multi-scale sets have cells a billionth of the box wide) a fixed area
+ * would accept points far outside it. */
+static int in_ring(const double *ring, size_t m, const double *p, double dtol,
+                   double atol) {
+    for (size_t u = 0; u < m; u++) {
+        const double *a = ring + 2 * u, *b = a + 2;
+        double len = hypot((b[0] - a[0]) * sc, (b[1] - a[1]) * sc);
+        if (cross3(a, b, p) < -(dtol * len + atol)) return 0;
+    }
     return 1;
 }
 
@@ -82,6 +90,8 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
     for (int k = 0; k < 4; k++) mag = fmax(mag, fabs(box[k]));
     const double ulps = 64 * DBL_EPSILON * mag * sc;
     const double tol = 1e-9 * w * h + ulps * (w + h);
+    /* for in_ring: the relative part as a distance, the rounding apart */
+    const double dtol = 1e-9 * w * h / (w + h), atol = ulps * (w + h);
     double total = 0;
     assert_int_equal(c->poly_start[0], 0);
     for (size_t i = 0; i < s->n; i++) {
@@ -108,7 +118,7 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
         /* a site inside the box is inside its own polygon */
         const double *site = s->xy + 2 * i;
         if (site[0] > box[0] && site[0] < box[2] && site[1] > box[1] &&
-            site[1] < box[3] && !in_ring(ring, m, site, tol))
+            site[1] < box[3] && !in_ring(ring, m, site, dtol, atol))
             fail_msg("%s: site %zu is outside its own polygon", what, i);
     }
     if (s->n > 0 && fabs(total - w * h) > 1e-9 * w * h)
@@ -134,7 +144,8 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
         if (second - bd < 1e-6 * (bd + w * w)) continue; /* a near tie */
         for (size_t i = 0; i < s->n; i++) {
             size_t lo = c->poly_start[i], np = c->poly_start[i + 1] - lo;
-            int in = np > 0 && in_ring(c->poly_xy + 2 * lo, np - 1, corner, tol);
+            int in = np > 0 && in_ring(c->poly_xy + 2 * lo, np - 1, corner, dtol,
+                                      atol);
             if (in != (i == best))
                 fail_msg("%s: corner %d %s the polygon of site %zu (nearest: %zu)",
                          what, k, in ? "lies in" : "is missing from", i, best);

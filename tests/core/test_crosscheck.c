@@ -1,10 +1,11 @@
 /* test_crosscheck.c -- the central oracle: the three algorithms against
  * each other, against vor_check and against brute force.
  *
- * For every standard set of tests/support/testsets.h and for many small
- * random sets (fixed seeds, printed), Fortune, Bowyer-Watson and flipping
- * must each return VOR_OK, pass vor_check and return bit-identical
- * diagrams. Every set is run to the end and reported on one line (which
+ * For every standard set of tests/support/testsets.h, for many small
+ * random sets (fixed seeds, printed) and for every distribution the
+ * service generates (small sizes, fixed seeds), Fortune, Bowyer-Watson
+ * and flipping must each return VOR_OK, pass vor_check and return
+ * bit-identical diagrams. Every set is run to the end and reported on one line (which
  * algorithm fails or differs, and the first difference); the test fails
  * at the end if any set did.
  *
@@ -28,6 +29,7 @@
 #include <cmocka.h>
 
 #include "../../core/internal.h"
+#include "../../api/distribution.h"
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
 
@@ -444,6 +446,34 @@ static void test_random_small(void **state) {
     if (failed) fail_msg("%d of %llu random sets failed", failed, (unsigned long long)count);
 }
 
+/* Every distribution of the service (api/distribution.h, the generators
+ * behind "generate" and voronoi --generate) at small sizes and two seeds:
+ * heavy tails, a far outlier, twelve decades, pixels with duplicates. */
+static void test_distributions(void **state) {
+    (void)state;
+    static const size_t sizes[] = {10, 100, 1000};
+    int failed = 0, runs = 0;
+    for (int d = 0; d < API_DIST_COUNT; d++) {
+        const char *dist = api_dist_name((api_dist)d);
+        for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
+            for (uint64_t seed = 1; seed <= 2; seed++) {
+                if (seed > 1 && !api_dist_seeded((api_dist)d)) continue;
+                double *xy = vt_distribution(dist, sizes[k], seed);
+                assert_non_null(xy);
+                vor_sites *s = sites_of(xy, sizes[k]);
+                free(xy);
+                char name[64];
+                snprintf(name, sizeof name, "%s:%zu:%llu", dist, sizes[k],
+                         (unsigned long long)seed);
+                if (crosscheck(name, s, 0)) failed++;
+                runs++;
+                sites_done(s);
+            }
+        }
+    }
+    if (failed) fail_msg("%d of %d distribution sets failed", failed, runs);
+}
+
 /* The helper itself: it must find and name a planted difference. */
 static void test_describe_diff(void **state) {
     (void)state;
@@ -485,6 +515,7 @@ int main(void) {
         cmocka_unit_test(test_describe_diff),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_random_small),
+        cmocka_unit_test(test_distributions),
     };
     return cmocka_run_group_tests_name("core/crosscheck", tests, NULL, NULL);
 }

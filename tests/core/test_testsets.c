@@ -75,12 +75,39 @@ static void test_generators_deterministic(void **state) {
     free(p);
 }
 
+/* The service's distributions through the test support: the alias gives
+ * the same points, an unknown name gives NULL, the outlier set has its one
+ * stray point. (tests/api/test_generate.c checks each distribution's
+ * shape.) */
+static void test_distributions(void **state) {
+    (void)state;
+    double *a = vt_distribution("random", 4000, 3);
+    double *b = vt_distribution("pixels", 4000, 3);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_memory_equal(a, b, 8000 * sizeof(double));
+    free(a);
+    free(b);
+    assert_null(vt_distribution("poisson", 10, 1));
+    assert_null(vt_distribution(NULL, 10, 1));
+    double *o = vt_distribution("outlier", 300, 1);
+    size_t strays = 0;
+    for (size_t i = 0; i < 300; i++) strays += o[2 * i] == 0 && o[2 * i + 1] == 0;
+    assert_int_equal(strays, 1);
+    free(o);
+    vt_set s;
+    assert_int_equal(vt_make_named("decades-2000", &s), 0);
+    assert_int_equal(s.n, 2000);
+    vt_set_free(&s);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_set_builds),
         cmocka_unit_test(test_int_circle_is_exact),
         cmocka_unit_test(test_collinear_is_exact),
         cmocka_unit_test(test_generators_deterministic),
+        cmocka_unit_test(test_distributions),
     };
     return cmocka_run_group_tests_name("tests/support/testsets", tests, NULL,
                                        NULL);

@@ -415,7 +415,7 @@ static void test_page_and_files(void **state) {
     assert_string_equal(it_header(&r, "Content-Type", h, sizeof h),
                         "text/html; charset=utf-8");
     assert_non_null(strstr(r.body, "<html"));
-    assert_non_null(strstr(r.body, "app.js"));
+    assert_non_null(strstr(r.body, "main.js"));
     size_t page_len = r.len;
     snprintf(etag, sizeof etag, "%s", it_header(&r, "ETag", h, sizeof h));
     it_free(&r);
@@ -442,7 +442,7 @@ static void test_page_and_files(void **state) {
     static const struct {
         const char *path, *ctype, *needle;
     } files[] = {
-        {"/app.js", "text/javascript; charset=utf-8", "voronoi"},
+        {"/main.js", "text/javascript; charset=utf-8", "import"},
         {"/style.css", "text/css; charset=utf-8", "{"},
         {"/index.html", "text/html; charset=utf-8", "<html"},
         {"/openapi.yaml", "application/yaml", "openapi: 3.1"},
@@ -589,7 +589,7 @@ static void test_web_dir(void **state) {
     assert_int_equal(r.status, 200);
     assert_non_null(strstr(r.body, "from the disk"));
     it_free(&r);
-    q.path = "/app.js"; /* not in that directory */
+    q.path = "/main.js"; /* not in that directory */
     it_http(&d2, &q, &r);
     assert_int_equal(r.status, 404);
     it_free(&r);

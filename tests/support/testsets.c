@@ -3,6 +3,8 @@
  * brute-force oracles where the name says so (n <= 2000). */
 #include "testsets.h"
 
+#include "../../api/distribution.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -138,6 +140,14 @@ double *vt_int_circle(long r, int with_centre, size_t *n) {
     return xy;
 }
 
+double *vt_distribution(const char *name, size_t n, uint64_t seed) {
+    int d = api_dist_find(name);
+    if (d < 0) return NULL;
+    double *xy = alloc_xy(n);
+    if (xy) api_dist_fill((api_dist)d, seed, xy, n);
+    return xy;
+}
+
 /* ---- the standard sets -------------------------------------------------- */
 
 typedef double *(*make_fn)(size_t *n);
@@ -158,6 +168,10 @@ FIXED(mk_grid_7, 49, vt_grid(7, 7))
 FIXED(mk_unit_circle_2000, 2000, vt_unit_circle(2000))
 FIXED(mk_clusters_3000, 3000, vt_clusters(3000, 10, 6))
 FIXED(mk_hex_40, 1600, vt_hex(40, 40))
+/* The service's skewed distributions (api/distribution.h). */
+FIXED(mk_lognormal_2000, 2000, vt_distribution("lognormal", 2000, 16))
+FIXED(mk_outlier_2000, 2000, vt_distribution("outlier", 2000, 17))
+FIXED(mk_decades_2000, 2000, vt_distribution("decades", 2000, 18))
 
 static double *mk_int_circle(size_t *n) { return vt_int_circle(1105, 1, n); }
 
@@ -324,6 +338,9 @@ static const struct {
     {"scale-1e-300", mk_scale_1e_300},
     {"clusters-3000", mk_clusters_3000},
     {"hex-40x40", mk_hex_40},
+    {"lognormal-2000", mk_lognormal_2000},
+    {"outlier-2000", mk_outlier_2000},
+    {"decades-2000", mk_decades_2000},
 };
 
 size_t vt_count(void) { return sizeof sets / sizeof sets[0]; }

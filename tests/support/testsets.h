@@ -4,8 +4,9 @@
  * inputs where Voronoi implementations break: duplicates, collinear points,
  * exactly cocircular points (integer circle, grids), nearly cocircular ones
  * (float circle, hexagonal lattice), rows of equal y, huge offsets and tiny or
- * huge scales, and the trivial sizes 0, 1, 2, 3. Plus the generators, so a
- * test can make its own sizes and seeds. Deterministic: the same name gives
+ * huge scales, heavy tails, one far outlier, twelve decades at once, and
+ * the trivial sizes 0, 1, 2, 3. Plus the generators, so a test can make its
+ * own sizes and seeds, among them the service's own distributions. Deterministic: the same name gives
  * the same doubles on every machine (no libm calls whose rounding may vary
  * except sin/cos for the float circle and the gaussian sets).
  */
@@ -36,6 +37,13 @@ double *vt_hex(size_t w, size_t h);                    /* hexagonal lattice */
 /* All integer points on x^2 + y^2 = r^2, plus the centre if with_centre.
  * *n receives the count. */
 double *vt_int_circle(long r, int with_centre, size_t *n);
+
+/* n points of a distribution of the service (uniform, gaussian, pixels or
+ * its alias random, grid, circle, clustered, lognormal, outlier, decades:
+ * api/distribution.h), the very doubles `"generate": {"distribution": name,
+ * "n": n, "seed": seed}` gives. NULL if the name is unknown or allocation
+ * failed. */
+double *vt_distribution(const char *name, size_t n, uint64_t seed);
 
 /* The standard sets. */
 typedef struct vt_set {
