@@ -201,9 +201,9 @@ static inline double vor__incircle_static_bound(double span) {
 
 /* Same result as vor_incircle(a, b, c, d), for points whose coordinate
  * differences are within the span that bound s was made for. */
-static inline int vor__incircle_static(const double *a, const double *b,
-                                       const double *c, const double *d,
-                                       double s) {
+static inline __attribute__((always_inline)) int
+vor__incircle_static(const double *a, const double *b, const double *c,
+                     const double *d, double s) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double alift = adx * adx + ady * ady;
