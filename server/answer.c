@@ -1,0 +1,192 @@
+/* answer.c -- the request's way out: replies, problem documents, and the
+ * headers every answer carries.
+ *
+ * A handler prepares an srv_reply (status, body, content type, the
+ * headers that vary) and sends it with srv__send_reply; a problem is a
+ * reply whose body api_write_problem wrote. srv__send_response is the one
+ * place where a response is queued: it adds X-Request-Id, CORS headers,
+ * the security headers and, while draining, Connection: close, and it
+ * records the status and size for the access log.
+ *
+ * Cost: small documents only (problems, health, metrics); the bodies of
+ * diagrams are made elsewhere (work.c) and only passed through. Bodies
+ * over SRV_GZIP_MIN are compressed here when the client takes gzip.
+ */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gzip.h"
+#include "internal.h"
+
+void srv__reply_clear(srv_reply *r) {
+    free(r->body);
+    r->body = NULL;
+    r->len = 0;
+}
+
+void srv__printable(char *dst, size_t size, const char *src, size_t max) {
+    size_t k = 0;
+    if (size == 0) return;
+    for (size_t i = 0; src != NULL && src[i] && k + 4 < size; i++) {
+        if (i >= max) {
+            memcpy(dst + k, "...", 3);
+            k += 3;
+            break;
+        }
+        unsigned char c = (unsigned char)src[i];
+        dst[k++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
+    }
+    dst[k] = '\0';
+}
+
+void srv__problem_reply(srv_reply *r, const api_problem *p,
+                        const char *instance) {
+    api_buf b;
+    api_buf_init(&b);
+    api_write_problem(p, instance, &b);
+    srv__reply_clear(r);
+    r->status = api_code_http(p->code);
+    r->ctype = "application/problem+json";
+    if (b.oom || b.data == NULL) {
+        api_buf_clear(&b);
+        static const char fallback[] =
+            "{\"type\":\"/problems/unavailable\",\"title\":\"Service "
+            "unavailable\",\"status\":503,\"detail\":\"out of memory\"}";
+        r->status = 503;
+        r->body = malloc(sizeof fallback);
+        if (r->body != NULL) {
+            memcpy(r->body, fallback, sizeof fallback);
+            r->len = sizeof fallback - 1;
+        }
+        return;
+    }
+    r->body = api_buf_take(&b, &r->len);
+}
+
+void srv__problemf(srv_reply *r, const char *instance, api_code code,
+                   const char *fmt, ...) {
+    api_problem p;
+    memset(&p, 0, sizeof p);
+    p.code = code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    va_end(ap);
+    srv__problem_reply(r, &p, instance);
+}
+
+void srv__maybe_gzip(srv_reply *r, int gzip_ok) {
+    if (!gzip_ok || r->len < SRV_GZIP_MIN || r->body == NULL ||
+        strcmp(r->ctype, "application/octet-stream") == 0)
+        return;
+    char *z;
+    size_t zn;
+    if (srv_gzip(r->body, r->len, r->len > ((size_t)1 << 20) ? 1 : 6, &z,
+                 &zn) != 0)
+        return; /* uncompressed is still a correct answer */
+    if (zn >= r->len) {
+        free(z);
+        return;
+    }
+    free(r->body);
+    r->body = z;
+    r->len = zn;
+    r->gzipped = 1;
+}
+
+static void add_common_headers(srv_req *q, struct MHD_Response *resp) {
+    MHD_add_response_header(resp, "X-Request-Id", q->id);
+    MHD_add_response_header(resp, "Access-Control-Allow-Origin", "*");
+    MHD_add_response_header(resp, "Access-Control-Expose-Headers",
+                            "Server-Timing, X-Request-Id, Retry-After, "
+                            "Content-Encoding");
+    MHD_add_response_header(resp, "Timing-Allow-Origin", "*");
+    if (atomic_load(&q->srv->draining))
+        MHD_add_response_header(resp, "Connection", "close");
+}
+
+enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
+                                   unsigned status, struct MHD_Response *resp,
+                                   size_t body_len) {
+    if (resp == NULL) return MHD_NO; /* out of memory: drop the connection */
+    add_common_headers(q, resp);
+    enum MHD_Result rc = MHD_queue_response(conn, status, resp);
+    MHD_destroy_response(resp);
+    q->status = (int)status;
+    q->bytes = q->method == SRV_M_HEAD ? 0 : body_len; /* as sent */
+    q->phase = SRV_PH_DONE;
+    return rc;
+}
+
+enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
+                                srv_reply *r, const char *allow,
+                                const char *cache_control) {
+    struct MHD_Response *resp = MHD_create_response_from_buffer(
+        r->len, r->body ? r->body : (void *)"",
+        r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);
+    if (resp == NULL) {
+        srv__reply_clear(r);
+        return MHD_NO;
+    }
+    size_t len = r->len;
+    r->body = NULL;
+    r->len = 0;
+    MHD_add_response_header(resp, "Content-Type", r->ctype);
+    if (r->gzipped) MHD_add_response_header(resp, "Content-Encoding", "gzip");
+    if (r->timing[0]) MHD_add_response_header(resp, "Server-Timing", r->timing);
+    if (r->retry_after > 0) {
+        char ra[16];
+        snprintf(ra, sizeof ra, "%d", r->retry_after);
+        MHD_add_response_header(resp, "Retry-After", ra);
+    }
+    if (allow != NULL) MHD_add_response_header(resp, "Allow", allow);
+    MHD_add_response_header(resp, "Cache-Control",
+                            cache_control ? cache_control : "no-store");
+    if (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE)
+        MHD_add_response_header(resp, "Vary", "Accept, Accept-Encoding");
+    return srv__send_response(q, conn, (unsigned)r->status, resp, len);
+}
+
+enum MHD_Result srv__send_problem(srv_req *q, struct MHD_Connection *conn,
+                                  api_code code, const char *allow,
+                                  int retry_after, const char *fmt, ...) {
+    api_problem p;
+    srv_reply r;
+    memset(&p, 0, sizeof p);
+    memset(&r, 0, sizeof r);
+    p.code = code;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    va_end(ap);
+    char inst[256];
+    srv__printable(inst, sizeof inst, q->path, 200);
+    srv__problem_reply(&r, &p, inst);
+    r.retry_after = retry_after;
+    return srv__send_reply(q, conn, &r, allow, NULL);
+}
+
+enum MHD_Result srv__send_api_problem(srv_req *q, struct MHD_Connection *conn,
+                                      const api_problem *p) {
+    srv_reply r;
+    memset(&r, 0, sizeof r);
+    char inst[256];
+    srv__printable(inst, sizeof inst, q->path, 200);
+    srv__problem_reply(&r, p, inst);
+    return srv__send_reply(q, conn, &r, NULL, NULL);
+}
+
+enum MHD_Result srv__send_text(srv_req *q, struct MHD_Connection *conn,
+                               unsigned status, const char *ctype, char *body,
+                               size_t len, int gzip_ok) {
+    srv_reply r;
+    memset(&r, 0, sizeof r);
+    r.status = (int)status;
+    r.ctype = ctype;
+    r.body = body;
+    r.len = len;
+    srv__maybe_gzip(&r, gzip_ok);
+    return srv__send_reply(q, conn, &r, NULL, NULL);
+}
