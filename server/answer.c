@@ -6,7 +6,10 @@
  * reply whose body api_write_problem wrote. srv__send_response is the one
  * place where a response is queued: it adds X-Request-Id, CORS headers,
  * the security headers and, while draining, Connection: close, and it
- * records the status and size for the access log.
+ * records the status and size for the access log. Every answer says
+ * X-Content-Type-Options: nosniff and Referrer-Policy: no-referrer; what a
+ * browser may render (the page, its files, problem pages, SVG) also
+ * carries the Content-Security-Policy (SRV_CSP) and X-Frame-Options.
  *
  * Cost: small documents only (problems, health, metrics); the bodies of
  * diagrams are made elsewhere (work.c) and only passed through. Bodies
@@ -96,8 +99,29 @@ void srv__maybe_gzip(srv_reply *r, int gzip_ok) {
     r->gzipped = 1;
 }
 
+/* The page's policy: scripts (ES modules included), styles, images and
+ * fetches only from the service itself; images also from data: and blob:
+ * URLs (the page draws on a canvas and offers results as blob: downloads);
+ * nothing else -- no inline script or style, no plugins, no framing by
+ * other sites, no <base>, forms only to the service. */
+#define SRV_CSP                                                              \
+    "default-src 'none'; script-src 'self'; style-src 'self'; "            \
+    "img-src 'self' data: blob:; connect-src 'self'; worker-src 'self'; "  \
+    "frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
+
+void srv__add_page_headers(struct MHD_Response *resp) {
+    MHD_add_response_header(resp, "Content-Security-Policy", SRV_CSP);
+    MHD_add_response_header(resp, "X-Frame-Options", "DENY");
+}
+
 static void add_common_headers(srv_req *q, struct MHD_Response *resp) {
     MHD_add_response_header(resp, "X-Request-Id", q->id);
+    MHD_add_response_header(resp, "X-Content-Type-Options", "nosniff");
+    MHD_add_response_header(resp, "Referrer-Policy", "no-referrer");
+    /* Anything a browser may render: every route but the computations'
+     * JSON (SVG answers get it in srv__send_reply). */
+    if (q->route != SRV_ROUTE_VORONOI && q->route != SRV_ROUTE_COMPARE)
+        srv__add_page_headers(resp);
     MHD_add_response_header(resp, "Access-Control-Allow-Origin", "*");
     MHD_add_response_header(resp, "Access-Control-Expose-Headers",
                             "Server-Timing, X-Request-Id, Retry-After, "
@@ -135,6 +159,9 @@ enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
     r->len = 0;
     MHD_add_response_header(resp, "Content-Type", r->ctype);
     if (r->gzipped) MHD_add_response_header(resp, "Content-Encoding", "gzip");
+    if (strcmp(r->ctype, "image/svg+xml") == 0 &&
+        (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE))
+        srv__add_page_headers(resp);
     if (r->timing[0]) MHD_add_response_header(resp, "Server-Timing", r->timing);
     if (r->retry_after > 0) {
         char ra[16];

@@ -142,6 +142,10 @@ enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
                                    unsigned status, struct MHD_Response *resp,
                                    size_t body_len);
 
+/* Adds the Content-Security-Policy and X-Frame-Options of what a browser
+ * renders. */
+void srv__add_page_headers(struct MHD_Response *resp);
+
 /* Sends a reply (its body is taken). allow and cache_control may be NULL
  * (no Allow header; Cache-Control: no-store). */
 enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,

@@ -157,15 +157,22 @@ async function waitComputed(page, before) {
 }
 
 /* Waits for fn(arg) in the page, failing at once if the page shows a new
- * error meanwhile (errors counted from `errorsBefore`). */
+ * error meanwhile (errors counted from `errorsBefore`). Polls with
+ * page.evaluate rather than a predicate that evals fn's source inside the
+ * page: the page's Content-Security-Policy forbids eval there. */
 async function waitOrError(page, fn, arg, errorsBefore) {
-    const ok = await page.waitForFunction(([src, a, e]) => {
-        const v = window.voronoid;
-        if (v.errorCount > e && !v.busy) return 'error';
-        return (0, eval)('(' + src + ')')(a) ? 'ok' : false;
-    }, [fn.toString(), arg, errorsBefore], { timeout: STEP_TIMEOUT });
-    if ((await ok.jsonValue()) === 'error') {
-        throw new Error('the page shows an error: ' + JSON.stringify((await state(page)).lastError));
+    const until = Date.now() + STEP_TIMEOUT;
+    for (;;) {
+        const failed = await page.evaluate((e) => {
+            const v = window.voronoid;
+            return v.errorCount > e && !v.busy;
+        }, errorsBefore);
+        if (failed) {
+            throw new Error('the page shows an error: ' + JSON.stringify((await state(page)).lastError));
+        }
+        if (await page.evaluate(fn, arg)) return;
+        if (Date.now() > until) throw new Error('timed out waiting for ' + fn.toString());
+        await new Promise((resolve) => setTimeout(resolve, 20));
     }
 }
 
