@@ -37,7 +37,11 @@
     X(API_INTERNAL, "internal", 500, "Internal error")                       \
     X(API_UNAVAILABLE, "unavailable", 503, "Service unavailable")            \
     X(API_TIMEOUT, "timeout", 504, "Deadline exceeded")                      \
-    X(API_NOT_IMPLEMENTED, "not-implemented", 501, "Not implemented")
+    X(API_NOT_IMPLEMENTED, "not-implemented", 501, "Not implemented")      \
+    X(API_REQUEST_TIMEOUT, "request-timeout", 408, "Request timeout")      \
+    X(API_URI_TOO_LONG, "uri-too-long", 414, "Request line too long")      \
+    X(API_HEADERS_TOO_LARGE, "headers-too-large", 431,                     \
+      "Request headers too large")
 
 typedef enum api_code {
 #define API__ENUM(name, slug, http, title) name,

@@ -19,9 +19,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <sys/uio.h>
 
 #include "gzip.h"
 #include "internal.h"
+
+/* Answers longer than this (about what the socket buffers take at once)
+ * are under --send-timeout while they are sent. */
+#define SRV_SEND_TIMEOUT_FROM (64 * 1024)
 
 void srv__reply_clear(srv_reply *r) {
     free(r->body);
@@ -136,6 +142,17 @@ enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
                                    size_t body_len) {
     if (resp == NULL) return MHD_NO; /* out of memory: drop the connection */
     add_common_headers(q, resp);
+    if (body_len > SRV_SEND_TIMEOUT_FROM &&
+        q->srv->cfg.send_timeout != (double)q->srv->cfg.connection_timeout) {
+        /* More than the socket buffers take at once: a client that stops
+         * reading holds the answer, so it gets --send-timeout, not the
+         * idle --connection-timeout (back to that once the answer is
+         * out, in on_completed). */
+        unsigned t = (unsigned)q->srv->cfg.send_timeout;
+        MHD_set_connection_option(conn, MHD_CONNECTION_OPTION_TIMEOUT,
+                                  t > 0 ? t : 1u);
+        q->send_timeout_set = 1;
+    }
     enum MHD_Result rc = MHD_queue_response(conn, status, resp);
     MHD_destroy_response(resp);
     q->status = (int)status;
@@ -144,9 +161,54 @@ enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
     return rc;
 }
 
+/* The reason phrase of the statuses srv__send_direct writes. */
+static const char *reason_of(int status) {
+    switch (status) {
+    case 400: return "Bad Request";
+    case 408: return "Request Timeout";
+    case 414: return "URI Too Long";
+    case 431: return "Request Header Fields Too Large";
+    default: return "Error";
+    }
+}
+
+/* srv__send_direct: libmicrohttpd builds its answers in the
+ * connection's memory, and would close the connection without a word.
+ * Nothing else was written on the socket for this request, and
+ * libmicrohttpd writes nothing after MHD_NO (or fails to, on the socket
+ * shut down for writing). */
+enum MHD_Result srv__send_direct(srv_req *q, struct MHD_Connection *conn,
+                                 srv_reply *r) {
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    char head[512];
+    int n = snprintf(head, sizeof head,
+                     "HTTP/1.1 %d %s\r\nContent-Type: %s\r\n"
+                     "Content-Length: %zu\r\nConnection: close\r\n"
+                     "X-Request-Id: %s\r\nX-Content-Type-Options: nosniff"
+                     "\r\nAccess-Control-Allow-Origin: *\r\n\r\n",
+                     r->status, reason_of(r->status), r->ctype, r->len, q->id);
+    if (ci != NULL && n > 0 && (size_t)n < sizeof head) {
+        struct iovec iov[2] = {{head, (size_t)n}, {r->body, r->len}};
+        struct msghdr m;
+        memset(&m, 0, sizeof m);
+        m.msg_iov = iov;
+        m.msg_iovlen = r->body != NULL ? 2 : 1;
+        if (sendmsg(ci->connect_fd, &m, MSG_DONTWAIT | MSG_NOSIGNAL) > 0) {
+            q->status = r->status;
+            q->bytes = r->len;
+        }
+        shutdown(ci->connect_fd, SHUT_WR);
+    }
+    srv__reply_clear(r);
+    q->phase = SRV_PH_DONE;
+    return MHD_NO;
+}
+
 enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
                                 srv_reply *r, const char *allow,
                                 const char *cache_control) {
+    if (q->bare) return srv__send_direct(q, conn, r);
     struct MHD_Response *resp = MHD_create_response_from_buffer(
         r->len, r->body ? r->body : (void *)"",
         r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);

@@ -137,9 +137,12 @@ static enum MHD_Result handle_options(srv_req *q, struct MHD_Connection *conn) {
 static const char *const problem_help[API_CODE_COUNT] = {
     [API_MALFORMED] = "The request body or a query parameter could not be "
                       "read: a syntax error, an unknown or repeated key, a "
-                      "binary body whose length is not a multiple of 16, or "
-                      "an unknown query parameter. The pointer (JSON) or "
-                      "line (text) member says where.",
+                      "binary body whose length is not a multiple of 16, an "
+                      "unknown query parameter, a compressed body that does "
+                      "not decode, or framing that cannot be trusted "
+                      "(Content-Length values that disagree, or both "
+                      "Content-Length and Transfer-Encoding). The pointer "
+                      "(JSON) or line (text) member says where.",
     [API_NOT_FOUND] = "Nothing is served at this path.",
     [API_METHOD] = "The path exists but not with this method; the Allow "
                    "header lists the methods it takes.",
@@ -148,7 +151,8 @@ static const char *const problem_help[API_CODE_COUNT] = {
                       "than the service computes at once (--max-points).",
     [API_MEDIA_TYPE] = "The Content-Type is not one the service reads: "
                        "application/json, text/csv, text/plain or "
-                       "application/octet-stream.",
+                       "application/octet-stream; or the Content-Encoding "
+                       "is not gzip, deflate or identity.",
     [API_NOT_ACCEPTABLE] = "The Accept header names nothing the service "
                            "produces: application/json, "
                            "application/geo+json, image/svg+xml or "
@@ -167,7 +171,19 @@ static const char *const problem_help[API_CODE_COUNT] = {
                     "deadline (--timeout), counted from the moment the "
                     "request was received; send fewer points.",
     [API_NOT_IMPLEMENTED] = "The algorithm asked for is not available in "
-                            "this build of the service.",
+                            "this build of the service, or the request "
+                            "was sent with a Transfer-Encoding other than "
+                            "chunked.",
+    [API_REQUEST_TIMEOUT] = "The request did not arrive in time: its line "
+                            "and headers took longer than the service "
+                            "waits (--header-timeout), or its body came "
+                            "more slowly than --min-upload-rate. The "
+                            "connection is closed; send the request again, "
+                            "whole.",
+    [API_URI_TOO_LONG] = "The request line is longer than the service "
+                         "reads (8 KiB); put the points in the body.",
+    [API_HEADERS_TOO_LARGE] = "The request line and headers together are "
+                              "longer than the service reads (12 KiB).",
 };
 
 static enum MHD_Result handle_problem_type(srv_req *q,

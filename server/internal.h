@@ -34,8 +34,11 @@
 #define SRV_MAX_OPTIONS 16  /* query parameters per request */
 #define SRV_RETRY_AFTER_S 1 /* Retry-After on 503 */
 
+typedef struct srv_guard srv_guard;
+
 struct srv_server {
     srv_config cfg;
+    srv_guard *guard;
     struct MHD_Daemon *daemon;
     MHD_socket quiesced_fd;
     srv_pool *pool;
@@ -74,10 +77,16 @@ enum { SRV_PH_BODY, SRV_PH_WAIT, SRV_PH_DONE };
  * Borrowed from libmicrohttpd, valid until the request completes. */
 typedef struct srv_req_headers {
     const char *accept, *accept_encoding, *content_length, *content_type,
-        *transfer_encoding, *request_id;
+        *transfer_encoding, *request_id, *content_encoding;
+    /* How often the framing headers came (a second one is an error unless
+     * it repeats the first Content-Length exactly). */
+    int n_content_length, n_transfer_encoding, n_content_encoding;
+    const char *content_length_2; /* a Content-Length that differs */
 } srv_req_headers;
 
 typedef struct srv_compute_job srv_compute_job;
+typedef struct srv_decoder srv_decoder;
+typedef struct srv_guard_conn srv_guard_conn;
 
 typedef struct srv_req {
     srv_server *srv;
@@ -101,6 +110,15 @@ typedef struct srv_req {
     uint64_t content_length;
     int has_cl;
     api_input kind;
+    srv_decoder *decoder; /* Content-Encoding gzip or deflate, else NULL */
+    int bad_body;         /* the body could not be decoded: 400 at the end */
+    char bad_detail[200];
+    srv_guard_conn *gconn; /* the connection's deadlines (guard.h) */
+    int started;          /* the access handler has seen the request */
+    int refused;          /* answered before the handler: refuse it */
+    int bare;             /* answer on the socket directly (the request
+                             filled the connection's memory) */
+    int send_timeout_set; /* the connection's timeout is --send-timeout */
     /* outcome */
     int status;
     size_t bytes;
@@ -152,6 +170,19 @@ enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
                                 srv_reply *r, const char *allow,
                                 const char *cache_control);
 
+/* Writes r (taken) as a whole response straight to the socket and has
+ * libmicrohttpd close the connection (returns MHD_NO): for a request that
+ * filled the connection's memory, where libmicrohttpd has no room left to
+ * build an answer. */
+enum MHD_Result srv__send_direct(srv_req *q, struct MHD_Connection *conn,
+                                 srv_reply *r);
+
+/* Longest request line and request head (line and headers) the service
+ * reads; beyond, 414 and 431. Well inside the connection's memory
+ * (SRV_CONNECTION_MEMORY in server.c). */
+#define SRV_MAX_REQUEST_LINE 8192
+#define SRV_MAX_REQUEST_HEAD 12288
+
 /* A problem document for this request, detail printf-style. */
 enum MHD_Result srv__send_problem(srv_req *q, struct MHD_Connection *conn,
                                   api_code code, const char *allow,
@@ -176,15 +207,20 @@ void srv__collect_headers(struct MHD_Connection *conn, srv_req_headers *h);
 
 /* First call: the headers are in, no body yet. Refuses now what can be
  * refused without the body. */
-enum MHD_Result srv__on_headers(srv_req *q, struct MHD_Connection *conn);
+enum MHD_Result srv__on_headers(srv_req *q, struct MHD_Connection *conn,
+                                const char *url);
 
 /* A piece of the body. */
 enum MHD_Result srv__on_data(srv_req *q, const char *data, size_t n);
 
 /* Last call: the whole request is in; refusals decided while the body
- * came (413) are sent. Returns 1 with *rc set when it answered. */
+ * came (413, 400 for a body that cannot be decoded) are sent. Returns 1
+ * with *rc set when it answered. */
 int srv__intake_refusal(srv_req *q, struct MHD_Connection *conn,
                         enum MHD_Result *rc);
+
+/* Frees what intake holds for q (the decoder). */
+void srv__intake_clear(srv_req *q);
 
 /* ---- work.c -------------------------------------------------------------- */
 

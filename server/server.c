@@ -28,6 +28,7 @@
 #include <unistd.h>
 
 #include "fmt.h"
+#include "guard.h"
 #include "internal.h"
 
 /* libmicrohttpd's memory per connection (its default is 32 KiB): request
@@ -95,6 +96,43 @@ static void copy_path(char *dst, size_t size, const char *url) {
     dst[n] = '\0';
 }
 
+/* libmicrohttpd's URI log callback, called once the request line is in
+ * (before the headers): the request's state begins here, so that every
+ * request whose line arrived ends in on_completed with a log line, also
+ * those libmicrohttpd refuses itself. A request line longer than the
+ * service reads is answered 414 now, on the socket: libmicrohttpd keeps
+ * the line in the connection's memory, and one that nearly fills it
+ * leaves no room for an answer. */
+static void *on_uri(void *cls, const char *uri, struct MHD_Connection *conn) {
+    srv_server *s = cls;
+    srv_req *q = calloc(1, sizeof *q);
+    if (q == NULL) return NULL;
+    q->srv = s;
+    q->t0_ns = srv_now_ns();
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    q->unix_t0 = (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
+    q->points = -1;
+    q->route = SRV_ROUTE_OTHER;
+    size_t n = uri != NULL ? strlen(uri) : 0;
+    size_t path_len = uri != NULL ? strcspn(uri, "?") : 0;
+    copy_path(q->path, sizeof q->path, uri);
+    if (path_len < sizeof q->path) q->path[path_len] = '\0';
+    if (n > SRV_MAX_REQUEST_LINE) {
+        make_request_id(q);
+        srv_reply r;
+        memset(&r, 0, sizeof r);
+        char inst[256];
+        srv__printable(inst, sizeof inst, q->path, 200);
+        srv__problemf(&r, inst, API_URI_TOO_LONG,
+                      "the request target is %zu bytes long; the service "
+                      "reads at most %d", n, SRV_MAX_REQUEST_LINE);
+        srv__send_direct(q, conn, &r);
+        q->refused = 1;
+    }
+    return q;
+}
+
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
                                   const char *url, const char *method,
                                   const char *version,
@@ -104,16 +142,9 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
     srv_req *q = *con_cls;
     (void)version;
 
-    if (q == NULL) {
-        q = calloc(1, sizeof *q);
-        if (q == NULL) return MHD_NO;
-        *con_cls = q;
-        q->srv = s;
-        q->t0_ns = srv_now_ns();
-        struct timespec ts;
-        clock_gettime(CLOCK_REALTIME, &ts);
-        q->unix_t0 = (double)ts.tv_sec + (double)ts.tv_nsec / 1e9;
-        q->points = -1;
+    if (q == NULL || q->refused) return MHD_NO;
+    if (!q->started) {
+        q->started = 1;
         srv__printable(q->method_name, sizeof q->method_name, method, 8);
         copy_path(q->path, sizeof q->path, url);
         q->method = srv_method_bit(method);
@@ -122,7 +153,12 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
         atomic_fetch_add(&s->in_flight, 1);
         q->match = srv_route_match(method, q->path, has_asset, s->assets,
                                    &q->route, q->allow, sizeof q->allow);
-        return srv__on_headers(q, conn);
+        const union MHD_ConnectionInfo *ci = MHD_get_connection_info(
+            conn, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+        q->gconn = ci != NULL ? ci->socket_context : NULL;
+        if (!srv_guard_conn_headers(q->gconn))
+            return MHD_NO; /* the guard closed it (408) meanwhile */
+        return srv__on_headers(q, conn, url);
     }
     if (*upload_data_size > 0) {
         size_t n = *upload_data_size;
@@ -131,7 +167,25 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
     }
     if (q->phase == SRV_PH_WAIT) return srv__finish_compute(q, conn);
     if (q->phase == SRV_PH_DONE) return MHD_YES;
+    srv_guard_conn_busy(q->gconn);
     return on_complete(q, conn);
+}
+
+/* libmicrohttpd's connection notifications: the guard follows every
+ * connection from its start to its close. */
+static void on_connection(void *cls, struct MHD_Connection *conn,
+                          void **socket_context,
+                          enum MHD_ConnectionNotificationCode code) {
+    srv_server *s = cls;
+    if (code == MHD_CONNECTION_NOTIFY_STARTED) {
+        const union MHD_ConnectionInfo *ci =
+            MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+        *socket_context =
+            ci != NULL ? srv_guard_conn_open(s->guard, ci->connect_fd) : NULL;
+    } else if (code == MHD_CONNECTION_NOTIFY_CLOSED) {
+        srv_guard_conn_close(s->guard, *socket_context);
+        *socket_context = NULL;
+    }
 }
 
 static const char *termination_note(enum MHD_RequestTerminationCode toe) {
@@ -151,10 +205,29 @@ static void on_completed(void *cls, struct MHD_Connection *conn,
                          enum MHD_RequestTerminationCode toe) {
     srv_server *s = cls;
     srv_req *q = *con_cls;
-    (void)conn;
     if (q == NULL) return;
     *con_cls = NULL;
     double ms = ms_since(q->t0_ns);
+    const char *note = termination_note(toe);
+    if (!q->started && q->status == 0) {
+        /* libmicrohttpd ended the request before the handler saw it: its
+         * own answer (a header it could not read), or the client left. */
+        const union MHD_ConnectionInfo *ci =
+            MHD_get_connection_info(conn, MHD_CONNECTION_INFO_HTTP_STATUS);
+        if (ci != NULL) {
+            q->status = (int)ci->http_status;
+            note = "refused-by-http-layer";
+        }
+        if (q->id[0] == '\0') make_request_id(q);
+    }
+    if (q->status == 0 && srv_guard_conn_too_slow(q->gconn)) {
+        q->status = 408; /* the guard answered for us */
+        note = "upload-too-slow";
+    }
+    srv_guard_conn_idle(q->gconn);
+    if (q->send_timeout_set)
+        MHD_set_connection_option(conn, MHD_CONNECTION_OPTION_TIMEOUT,
+                                  s->cfg.connection_timeout);
     if (q->status > 0)
         srv_metrics_request(s->metrics, q->route, q->status, ms / 1e3);
     else
@@ -169,13 +242,15 @@ static void on_completed(void *cls, struct MHD_Connection *conn,
         .algorithm = q->algorithm,
         .points = q->points,
         .request_id = q->id,
-        .note = termination_note(toe),
+        .note = note,
     };
     srv_log_access(s->log, &e);
     if (q->job != NULL) srv__job_unref(q->job);
+    srv__intake_clear(q);
+    int counted = q->started;
     free(q->body);
     free(q);
-    atomic_fetch_sub(&s->in_flight, 1);
+    if (counted) atomic_fetch_sub(&s->in_flight, 1);
 }
 
 static void mhd_log(void *cls, const char *fmt, va_list ap) {
@@ -218,8 +293,9 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     s->metrics = srv_metrics_new();
     s->assets = srv_assets_new(cfg->web_dir);
     s->pool = srv_pool_new(cfg->workers, cfg->queue);
+    s->guard = srv_guard_new(cfg);
     if (s->log == NULL || s->metrics == NULL || s->assets == NULL ||
-        s->pool == NULL) {
+        s->pool == NULL || s->guard == NULL) {
         snprintf(err, err_size, "cannot allocate the service's state or "
                  "start its %d worker threads", cfg->workers);
         goto fail;
@@ -255,6 +331,9 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
         MHD_OPTION_CONNECTION_LIMIT, cfg->max_connections,
         MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_CONNECTION_MEMORY,
         MHD_OPTION_NOTIFY_COMPLETED, on_completed, s,
+        MHD_OPTION_NOTIFY_CONNECTION, on_connection, s,
+        MHD_OPTION_URI_LOG_CALLBACK, on_uri, s,
+        MHD_OPTION_PER_IP_CONNECTION_LIMIT, cfg->max_connections_per_ip,
         MHD_OPTION_END);
     if (s->daemon == NULL) {
         snprintf(err, err_size, "cannot listen on %s port %d (address in "
@@ -268,6 +347,7 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     return s;
 
 fail:
+    srv_guard_free(s->guard);
     srv_pool_free(s->pool, 0);
     srv_assets_free(s->assets);
     srv_metrics_free(s->metrics);
@@ -325,6 +405,7 @@ int srv_server_free(srv_server *s) {
     if (s->quiesced_fd != MHD_INVALID_SOCKET) close(s->quiesced_fd);
     /* Every request has had its on_completed now: its line is in. */
     srv_log_flush(s->log);
+    srv_guard_free(s->guard); /* every connection is closed now */
     if (srv_pool_free(s->pool, 0.5) != 0) return -1;
     srv_assets_free(s->assets);
     srv_metrics_free(s->metrics);
