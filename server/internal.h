@@ -40,12 +40,13 @@ struct srv_server {
     srv_config cfg;
     srv_guard *guard;
     struct MHD_Daemon *daemon;
-    MHD_socket quiesced_fd;
     srv_pool *pool;
     srv_metrics *metrics;
     srv_assets *assets;
     int port;
     srv_log *log;         /* access lines and libmicrohttpd's messages */
+    int listen_closed;    /* srv_server_stop_listening ran (main thread) */
+    size_t accepted_late; /* connections taken from the queue by hand */
     atomic_int draining;
     atomic_int closing;   /* srv_server_free began: no new computations */
     atomic_long in_flight;

@@ -15,6 +15,9 @@
 #include "server.h"
 
 #include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <linux/filter.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
 #include <stdarg.h>
@@ -279,7 +282,6 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
         return NULL;
     }
     s->cfg = *cfg;
-    s->quiesced_fd = MHD_INVALID_SOCKET;
     atomic_init(&s->draining, 0);
     atomic_init(&s->closing, 0);
     atomic_init(&s->in_flight, 0);
@@ -360,18 +362,59 @@ int srv_server_port(const srv_server *s) { return s->port; }
 
 void srv_server_flush_log(srv_server *s) { srv_log_flush(s->log); }
 
-/* Draining stops new connections at the kernel: libmicrohttpd stops
- * accepting, and the listening socket is shut down (not closed: its threads
- * may still look at the descriptor until MHD_stop_daemon), so connections
- * that would wait in its backlog are refused and a load balancer sends them
- * to another daemon at once. Connections already open are served. The
- * daemon does not set SO_REUSEPORT, so no second daemon can share its port
- * and take a share of the connections unnoticed. */
-void srv_server_drain(srv_server *s) {
-    if (atomic_exchange(&s->draining, 1)) return;
-    s->quiesced_fd = MHD_quiesce_daemon(s->daemon);
-    if (s->quiesced_fd != MHD_INVALID_SOCKET)
-        shutdown(s->quiesced_fd, SHUT_RDWR);
+/* Draining, first step: /readyz answers 503 from now on and every answer
+ * says Connection: close, so that load balancers take the daemon out and
+ * clients with kept-alive connections reconnect elsewhere; the listener
+ * still accepts (see srv_server_stop_listening). */
+void srv_server_drain(srv_server *s) { atomic_store(&s->draining, 1); }
+
+/* Second step: stop listening without resetting a connection that
+ * reached the kernel. libmicrohttpd stops accepting and hands back the
+ * listening socket (MHD_quiesce_daemon). Closing it would reset every
+ * connection still waiting in its accept queue, and closing right after
+ * emptying the queue would reset those that complete their handshake in
+ * between. So a socket filter that drops every packet is attached first:
+ * no further handshake can complete (a client's SYN goes unanswered; it
+ * retries, and then finds the port closed). The queue is then emptied by
+ * hand, each connection given to libmicrohttpd to be served like any
+ * other (with Connection: close), and the socket closed. */
+void srv_server_stop_listening(srv_server *s) {
+    srv_server_drain(s);
+    if (s->listen_closed) return;
+    s->listen_closed = 1;
+    MHD_socket lfd = MHD_quiesce_daemon(s->daemon);
+    if (lfd == MHD_INVALID_SOCKET) return;
+    struct sock_filter drop_all[] = {BPF_STMT(BPF_RET | BPF_K, 0)};
+    struct sock_fprog prog = {1, drop_all};
+    int filtered = setsockopt(lfd, SOL_SOCKET, SO_ATTACH_FILTER, &prog,
+                              sizeof prog) == 0;
+    int fl = fcntl(lfd, F_GETFL);
+    if (fl >= 0) fcntl(lfd, F_SETFL, fl | O_NONBLOCK);
+    for (;;) {
+        struct sockaddr_storage addr;
+        socklen_t alen = sizeof addr;
+        int fd = accept(lfd, (struct sockaddr *)&addr, &alen);
+        if (fd < 0) {
+            if (errno == EINTR) continue;
+            break; /* EAGAIN: the queue is empty */
+        }
+        s->accepted_late++;
+        /* libmicrohttpd closes fd itself when it cannot take it. */
+        (void)MHD_add_connection(s->daemon, fd, (struct sockaddr *)&addr,
+                                 alen);
+    }
+    if (!filtered) {
+        /* Without the filter, wait a moment for handshakes in flight. */
+        struct timespec nap = {0, 20 * 1000 * 1000};
+        nanosleep(&nap, NULL);
+        for (int fd; (fd = accept(lfd, NULL, NULL)) >= 0;)
+            (void)MHD_add_connection(s->daemon, fd, NULL, 0);
+    }
+    close(lfd);
+}
+
+size_t srv_server_accepted_late(const srv_server *s) {
+    return s->accepted_late;
 }
 
 size_t srv_server_in_flight(const srv_server *s) {
@@ -402,7 +445,6 @@ int srv_server_free(srv_server *s) {
     srv_pool_close(s->pool);
     srv_pool_cancel_all(s->pool);
     MHD_stop_daemon(s->daemon);
-    if (s->quiesced_fd != MHD_INVALID_SOCKET) close(s->quiesced_fd);
     /* Every request has had its on_completed now: its line is in. */
     srv_log_flush(s->log);
     srv_guard_free(s->guard); /* every connection is closed now */
