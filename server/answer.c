@@ -16,14 +16,17 @@
  * over SRV_GZIP_MIN are compressed here when the client takes gzip.
  */
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/uio.h>
 
+#include "budget.h"
 #include "gzip.h"
 #include "internal.h"
+#include "stream.h"
 
 /* Answers longer than this (about what the socket buffers take at once)
  * are under --send-timeout while they are sent. */
@@ -33,6 +36,24 @@ void srv__reply_clear(srv_reply *r) {
     free(r->body);
     r->body = NULL;
     r->len = 0;
+    srv_stream_discard(r->stream);
+    r->stream = NULL;
+    if (r->held > 0) srv_budget_give(r->budget, r->held);
+    r->held = 0;
+}
+
+/* A body libmicrohttpd frees once sent, with the budget it stands for. */
+typedef struct held_body {
+    char *body;
+    size_t held;
+    srv_budget *budget;
+} held_body;
+
+static void held_body_free(void *cls) {
+    held_body *h = cls;
+    free(h->body);
+    srv_budget_give(h->budget, h->held);
+    free(h);
 }
 
 void srv__printable(char *dst, size_t size, const char *src, size_t max) {
@@ -156,7 +177,8 @@ enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
     enum MHD_Result rc = MHD_queue_response(conn, status, resp);
     MHD_destroy_response(resp);
     q->status = (int)status;
-    q->bytes = q->method == SRV_M_HEAD ? 0 : body_len; /* as sent */
+    q->bytes = q->method == SRV_M_HEAD || body_len == SIZE_MAX
+                   ? 0 : body_len; /* as sent; streams: unknown */
     q->phase = SRV_PH_DONE;
     return rc;
 }
@@ -209,17 +231,37 @@ enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
                                 srv_reply *r, const char *allow,
                                 const char *cache_control) {
     if (q->bare) return srv__send_direct(q, conn, r);
-    struct MHD_Response *resp = MHD_create_response_from_buffer(
-        r->len, r->body ? r->body : (void *)"",
-        r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);
+    struct MHD_Response *resp;
+    size_t len = r->len;
+    if (r->stream != NULL) {
+        resp = srv_stream_start(r->stream, conn); /* it sets the types */
+        r->stream = NULL;
+        len = SIZE_MAX; /* unknown, and large */
+    } else if (r->held > 0 && r->body != NULL) {
+        held_body *h = malloc(sizeof *h);
+        resp = h == NULL ? NULL
+                         : MHD_create_response_from_buffer_with_free_callback_cls(
+                               r->len, r->body, held_body_free, h);
+        if (resp != NULL) {
+            h->body = r->body;
+            h->held = r->held;
+            h->budget = r->budget;
+            r->held = 0;
+        } else {
+            free(h);
+        }
+    } else {
+        resp = MHD_create_response_from_buffer(
+            r->len, r->body ? r->body : (void *)"",
+            r->body ? MHD_RESPMEM_MUST_FREE : MHD_RESPMEM_PERSISTENT);
+    }
     if (resp == NULL) {
         srv__reply_clear(r);
         return MHD_NO;
     }
-    size_t len = r->len;
     r->body = NULL;
     r->len = 0;
-    MHD_add_response_header(resp, "Content-Type", r->ctype);
+    if (len != SIZE_MAX) MHD_add_response_header(resp, "Content-Type", r->ctype);
     if (r->gzipped) MHD_add_response_header(resp, "Content-Encoding", "gzip");
     if (strcmp(r->ctype, "image/svg+xml") == 0 &&
         (q->route == SRV_ROUTE_VORONOI || q->route == SRV_ROUTE_COMPARE))

@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "budget.h"
+#include "guard.h"
 #include "gzip.h"
 #include "internal.h"
 #include "server.h"
@@ -91,6 +93,15 @@ static enum MHD_Result handle_metrics(srv_req *q, struct MHD_Connection *conn) {
     g.workers = (size_t)s->cfg.workers;
     g.in_flight = srv_server_in_flight(s);
     g.ready = !atomic_load(&s->draining);
+    g.answer_memory = srv_budget_used(s->budget);
+    g.answer_memory_capacity = srv_budget_capacity(s->budget);
+    g.answer_memory_peak = srv_budget_peak(s->budget);
+    g.answer_memory_refused = srv_budget_refused(s->budget);
+    g.connections = srv_guard_open(s->guard);
+    g.closed_header_timeout = srv_guard_closed(s->guard,
+                                               SRV_GUARD_HEADER_TIMEOUT);
+    g.closed_silent = srv_guard_closed(s->guard, SRV_GUARD_SILENT);
+    g.closed_upload_rate = srv_guard_closed(s->guard, SRV_GUARD_UPLOAD_RATE);
     api_buf b;
     api_buf_init(&b);
     srv_metrics_render(s->metrics, &g, &b);

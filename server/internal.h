@@ -35,10 +35,15 @@
 #define SRV_RETRY_AFTER_S 1 /* Retry-After on 503 */
 
 typedef struct srv_guard srv_guard;
+typedef struct srv_budget srv_budget;
+typedef struct srv_streams srv_streams;
+typedef struct srv_stream srv_stream;
 
 struct srv_server {
     srv_config cfg;
     srv_guard *guard;
+    srv_budget *budget;   /* --answer-memory (budget.h) */
+    srv_streams *streams; /* answers being streamed (stream.h) */
     struct MHD_Daemon *daemon;
     srv_pool *pool;
     srv_metrics *metrics;
@@ -67,6 +72,11 @@ typedef struct srv_reply {
     char timing[400];      /* Server-Timing value, "" for none */
     const char *algorithm; /* for the log, NULL when none */
     long long points;      /* for the log, -1 when unknown */
+    srv_stream *stream;    /* instead of body: an answer made as it is
+                              sent (stream.h) */
+    size_t held;           /* bytes of the budget the body stands for,
+                              given back when it is freed */
+    srv_budget *budget;
 } srv_reply;
 
 /* ---- one request --------------------------------------------------------- */

@@ -30,9 +30,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "budget.h"
 #include "fmt.h"
 #include "guard.h"
 #include "internal.h"
+#include "stream.h"
 
 /* libmicrohttpd's memory per connection (its default is 32 KiB): request
  * headers and the read buffer live in it, and libmicrohttpd zeroes it,
@@ -296,8 +298,11 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     s->assets = srv_assets_new(cfg->web_dir);
     s->pool = srv_pool_new(cfg->workers, cfg->queue);
     s->guard = srv_guard_new(cfg);
+    s->budget = srv_budget_new(cfg->answer_memory);
+    s->streams = srv_streams_new();
     if (s->log == NULL || s->metrics == NULL || s->assets == NULL ||
-        s->pool == NULL || s->guard == NULL) {
+        s->pool == NULL || s->guard == NULL || s->budget == NULL ||
+        s->streams == NULL) {
         snprintf(err, err_size, "cannot allocate the service's state or "
                  "start its %d worker threads", cfg->workers);
         goto fail;
@@ -349,6 +354,8 @@ srv_server *srv_server_new(const srv_config *cfg, int log_fd, char *err,
     return s;
 
 fail:
+    srv_streams_free(s->streams);
+    srv_budget_free(s->budget);
     srv_guard_free(s->guard);
     srv_pool_free(s->pool, 0);
     srv_assets_free(s->assets);
@@ -444,11 +451,16 @@ int srv_server_free(srv_server *s) {
     atomic_store_explicit(&s->closing, 1, memory_order_release);
     srv_pool_close(s->pool);
     srv_pool_cancel_all(s->pool);
+    /* Writers of streamed answers end theirs (the clients get them cut
+     * short) and resume any connection waiting for a chunk. */
+    srv_streams_stop(s->streams);
     MHD_stop_daemon(s->daemon);
     /* Every request has had its on_completed now: its line is in. */
     srv_log_flush(s->log);
     srv_guard_free(s->guard); /* every connection is closed now */
+    srv_streams_free(s->streams);
     if (srv_pool_free(s->pool, 0.5) != 0) return -1;
+    srv_budget_free(s->budget);
     srv_assets_free(s->assets);
     srv_metrics_free(s->metrics);
     srv_log_free(s->log);

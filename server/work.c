@@ -30,8 +30,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "budget.h"
 #include "fmt.h"
 #include "internal.h"
+#include "stream.h"
 #include "server.h"
 
 /* Bodies up to this size may be computed inline (see run_inline): it
@@ -146,13 +148,65 @@ static void input_problem(srv_reply *out, const api_problem *p,
     timing_add(&tb, "parse", parse_ms);
 }
 
+/* ---- the answer budget ------------------------------------------------------
+ * What a request holds at its peak, by point, measured on 10^6 uniform
+ * points (bench/ and `make soak` print the figures): computing takes
+ * about 215 bytes a point, result included (sites 24, diagram about 150),
+ * clipping about 200 more; three algorithms for /compare about 520; the
+ * JSON answer about 320 bytes a point with the default parts. The
+ * estimates below round these up. */
+#define BPP_COMPUTE 260
+#define BPP_CLIP 260
+#define BPP_COMPARE 600
+
+static int needs_clip(const api_request *r) {
+    return r->format == API_FMT_GEOJSON || r->format == API_FMT_SVG ||
+           (r->parts & API_PART_CLIPPED) ||
+           (r->has_bounds && !r->parts_given);
+}
+
+/* Bytes a point of the answer takes, about. */
+static size_t answer_bpp(const api_request *r) {
+    int clip = needs_clip(r);
+    switch (r->format) {
+    case API_FMT_TIMINGS: return 0;
+    case API_FMT_GEOJSON: return 320;
+    case API_FMT_SVG: return 180;
+    case API_FMT_BINARY: return 140 + (clip ? 230 : 0);
+    case API_FMT_JSON: break;
+    }
+    size_t b = 340;
+    if (r->parts & API_PART_SITES) b += 50;
+    if (r->parts & API_PART_TRIANGLES) b += 50;
+    if (clip) b += 420;
+    return b;
+}
+
+/* Whether the answer is large enough to be streamed (stream.h). */
+static int streams(const api_request *r, int compare) {
+    return !compare && answer_bpp(r) * r->n > SRV_STREAM_MIN_ANSWER;
+}
+
+/* What the request will hold at its peak, computing and answering. */
+static size_t estimate(const api_request *r, int compare, int stream) {
+    size_t n = r->n, per = compare ? BPP_COMPARE
+                                   : BPP_COMPUTE + (needs_clip(r) ? BPP_CLIP : 0);
+    size_t answer = stream ? SRV_STREAM_OVERHEAD
+                           : n * answer_bpp(r) + n * answer_bpp(r) / 4;
+    return (256u << 10) + n * per + answer;
+}
+
 /* Stage 2: computes the diagram (or the comparison) of a parsed request
  * and writes the answer into out: 200 with the document and its
  * Server-Timing, or a problem. base is the pool's job, polled so that work
- * nobody will read stops early; NULL when the request runs inline. */
-static void compute_answer(srv_server *s, const api_request *r, int compare,
+ * nobody will read stops early; NULL when the request runs inline. With
+ * may_stream, a large answer becomes a stream (out->stream) that takes r
+ * and the result, owning *stream_held bytes of the budget. */
+static void compute_answer(srv_server *s, api_request *r, int compare,
                            double queue_ms, double parse_ms, srv_job *base,
-                           const char *instance, srv_reply *out) {
+                           const char *instance, srv_reply *out,
+                           int may_stream, int gzip_ok,
+                           size_t *stream_held) {
     api_problem p;
     api_buf b;
     api_code c = API_OK;
@@ -168,7 +222,32 @@ static void compute_answer(srv_server *s, const api_request *r, int compare,
         if (c == API_OK) {
             srv_metrics_compute(s->metrics, r->algorithm, r->n,
                                 res.t.compute_ms / 1e3);
-            if (!job_stopped(base)) {
+            if (!job_stopped(base) && may_stream && streams(r, 0)) {
+                api_timings t = res.t;
+                t.queue_ms = queue_ms;
+                t.parse_ms = parse_ms;
+                t.total_ms += queue_ms + parse_ms;
+                size_t held = srv_result_bytes(&res) + SRV_STREAM_OVERHEAD;
+                api_format fmt = r->format;
+                srv_stream *st = srv_stream_new(
+                    s->streams, s->budget, r, &res, &t,
+                    gzip_ok && fmt != API_FMT_BINARY, held);
+                if (st == NULL) {
+                    c = api_problem_set(&p, API_UNAVAILABLE, "out of memory");
+                } else {
+                    *stream_held = held;
+                    out->stream = st;
+                    out->status = 200;
+                    out->ctype = api_format_mime(fmt);
+                    timing_buf tb =
+                        timing_start(out->timing, sizeof out->timing);
+                    timing_add(&tb, "queue", t.queue_ms);
+                    timing_add(&tb, "parse", t.parse_ms);
+                    timing_add(&tb, "prepare", t.prepare_ms);
+                    timing_add(&tb, "compute", t.compute_ms);
+                    timing_add(&tb, "clip", t.clip_ms);
+                }
+            } else if (!job_stopped(base)) {
                 api_timings t = res.t;
                 t.queue_ms = queue_ms;
                 t.parse_ms = parse_ms;
@@ -273,14 +352,44 @@ static void job_run(srv_job *base) {
     free(j->body);
     j->body = NULL;
     double parse_ms = ms_since(t_parse);
-    if (c != API_OK)
+    srv_server *s = j->srv;
+    if (c != API_OK) {
         input_problem(out, &p, j->instance, queue_ms, parse_ms);
-    else if (!srv_job_abandoned(base)) /* else nobody will read it */
-        compute_answer(j->srv, &r, j->compare, queue_ms, parse_ms, base,
-                       j->instance, out);
+    } else if (!srv_job_abandoned(base)) { /* else nobody will read it */
+        /* What it will hold at its peak must fit the budget first. */
+        int stream = streams(&r, j->compare);
+        size_t est = estimate(&r, j->compare, stream);
+        if (srv_budget_take(s->budget, est) != 0) {
+            size_t mib = 1u << 20;
+            srv__problemf(out, j->instance, API_UNAVAILABLE,
+                          "the service holds %zu MiB for requests in flight "
+                          "and this one needs about %zu MiB more, past its "
+                          "budget of %zu MiB (--answer-memory); retry after "
+                          "%d s", srv_budget_used(s->budget) / mib,
+                          est / mib + 1, srv_budget_capacity(s->budget) / mib,
+                          SRV_RETRY_AFTER_S);
+            out->retry_after = SRV_RETRY_AFTER_S;
+            out->points = (long long)r.n;
+        } else {
+            size_t stream_held = 0;
+            compute_answer(s, &r, j->compare, queue_ms, parse_ms, base,
+                           j->instance, out, 1, j->gzip_ok, &stream_held);
+            if (!srv_job_abandoned(base) && out->body != NULL)
+                srv__maybe_gzip(out, j->gzip_ok);
+            /* Keep what the answer holds (the body until libmicrohttpd
+             * has sent it, or the stream's share), give back the rest. */
+            size_t keep = out->stream != NULL ? stream_held
+                          : out->body != NULL && out->len > (64u << 10)
+                              ? out->len : 0;
+            if (keep > est) srv_budget_force(s->budget, keep - est);
+            else srv_budget_give(s->budget, est - keep);
+            if (out->stream == NULL && keep > 0) {
+                out->held = keep;
+                out->budget = s->budget;
+            }
+        }
+    }
     api_request_clear(&r);
-    if (!srv_job_abandoned(base) && out->body != NULL)
-        srv__maybe_gzip(out, j->gzip_ok);
 }
 
 /* Publishes the answer and resumes the connection. Exactly once per job. */
@@ -383,7 +492,8 @@ static int run_inline(srv_req *q, struct MHD_Connection *conn,
     if (c != API_OK)
         input_problem(&out, &p, instance, 0, parse_ms);
     else
-        compute_answer(s, &r, in->compare, 0, parse_ms, NULL, instance, &out);
+        compute_answer(s, &r, in->compare, 0, parse_ms, NULL, instance, &out,
+                       0, 0, NULL);
     api_request_clear(&r);
     if (srv_now_ns() > deadline_ns) {
         srv__reply_clear(&out);
