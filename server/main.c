@@ -35,6 +35,13 @@
 
 static const char *env_lookup(const char *name) { return getenv(name); }
 
+/* A SIGTERM or SIGINT arrived (SIGHUP does not count); does not wait. */
+static int second_signal(const sigset_t *sigs) {
+    struct timespec zero = {0, 0};
+    int sig = sigtimedwait(sigs, NULL, &zero);
+    return sig == SIGTERM || sig == SIGINT;
+}
+
 int main(int argc, char **argv) {
     srv_config cfg;
     char err[512];
@@ -64,6 +71,7 @@ int main(int argc, char **argv) {
     sigemptyset(&sigs);
     sigaddset(&sigs, SIGTERM);
     sigaddset(&sigs, SIGINT);
+    sigaddset(&sigs, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &sigs, NULL);
     signal(SIGPIPE, SIG_IGN);
 
@@ -78,8 +86,14 @@ int main(int argc, char **argv) {
     fprintf(stderr, "voronoid: listening on http://%s%s%s:%d/\n",
             ipv6 ? "[" : "", cfg.bind, ipv6 ? "]" : "", srv_server_port(s));
 
+    /* SIGHUP, which supervisors send to have a daemon reload, would end
+     * the process by default; there is nothing to reload (settings are
+     * read once, the log is stderr), so it is noted and ignored. */
     int sig = 0;
-    sigwait(&sigs, &sig);
+    while (sigwait(&sigs, &sig) == 0 && sig == SIGHUP) {
+        srv_server_flush_log(s);
+        fprintf(stderr, "voronoid: SIGHUP: nothing to reload, ignored\n");
+    }
     srv_server_drain(s);
     srv_server_flush_log(s);
     fprintf(stderr, "voronoid: %s: draining: /readyz says 503, still "
@@ -87,12 +101,11 @@ int main(int argc, char **argv) {
             cfg.drain);
 
     /* Keep accepting for --drain seconds, watching for a second signal. */
-    struct timespec zero = {0, 0};
     int hurry = 0;
     for (double waited = 0; waited < cfg.drain && !hurry; waited += 0.05) {
         struct timespec nap = {0, 50 * 1000 * 1000};
         nanosleep(&nap, NULL);
-        hurry = sigtimedwait(&sigs, NULL, &zero) > 0;
+        hurry = second_signal(&sigs);
     }
     srv_server_stop_listening(s);
     srv_server_flush_log(s);
@@ -109,7 +122,7 @@ int main(int argc, char **argv) {
     while (!hurry && srv_server_wait_idle(s, 0.05) != 0 &&
            waited < cfg.grace) {
         waited += 0.05;
-        if (sigtimedwait(&sigs, NULL, &zero) > 0) {
+        if (second_signal(&sigs)) {
             srv_server_flush_log(s);
             fprintf(stderr, "voronoid: second signal: not waiting longer\n");
             break;

@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <errno.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <cmocka.h>
 
 #include "harness.h"
@@ -130,7 +131,7 @@ static void test_sigterm_loses_nothing(void **state) {
 
 typedef struct hammer {
     int port;
-    volatile int *stop;
+    atomic_int *stop;
     long ok, unavailable, other, resets, no_answer, refused, close_seen;
 } hammer;
 
@@ -142,7 +143,7 @@ static void *run_hammer(void *arg) {
         "POST /voronoi HTTP/1.1\r\nHost: x\r\nContent-Type: "
         "application/json\r\nContent-Length: 40\r\n\r\n"
         "[[0,0],[1,0],[0,1],[1,1],[0.5,0.5]]     ";
-    while (!*h->stop) {
+    while (!atomic_load(h->stop)) {
         int fd = socket(AF_INET, SOCK_STREAM, 0);
         struct sockaddr_in a;
         memset(&a, 0, sizeof a);
@@ -208,7 +209,8 @@ static void test_sigterm_under_load_resets_nothing(void **state) {
         enum { N = 8 };
         hammer h[N];
         pthread_t th[N];
-        volatile int stop = 0;
+        atomic_int stop;
+        atomic_init(&stop, 0);
         memset(h, 0, sizeof h);
         for (int i = 0; i < N; i++) {
             h[i].port = d.port;
@@ -219,7 +221,7 @@ static void test_sigterm_under_load_resets_nothing(void **state) {
         it_sleep(0.3);
         kill(d.pid, SIGTERM);
         int rc = it_stop(&d, 0);
-        stop = 1;
+        atomic_store(&stop, 1);
         hammer t;
         memset(&t, 0, sizeof t);
         for (int i = 0; i < N; i++) {
