@@ -51,7 +51,7 @@ enum { PH_HEAD, PH_BODY, PH_BUSY, PH_DEAD };
 #define MAX_LINGER 256
 #define TICK_MS 100      /* the thread's wake-up */
 #define SWEEP_NS 250000000LL /* walks of the connection list */
-#define PRESSURE_DEADLINE_NS 1000000000LL
+#define PRESSURE_DEADLINE_NS 250000000LL /* near the connection limit */
 
 struct srv_guard_conn {
     srv_guard_conn *prev, *next;
@@ -250,7 +250,7 @@ static void *guard_main(void *arg) {
         pthread_mutex_lock(&g->lock);
         int64_t now = srv_now_ns();
         if (n > 0 || g->n_linger > 0) drain_lingering(g, p, n, now);
-        if (now >= next_sweep) {
+        if (now >= next_sweep || g->n_open >= g->pressure_at) {
             sweep(g, now);
             next_sweep = now + SWEEP_NS;
         }

@@ -11,8 +11,10 @@
  *     within --header-timeout of the connection's start, or of the first
  *     byte of a further request on a kept-alive connection (a kept-alive
  *     connection with nothing sent waits under --connection-timeout as
- *     before). Near the connection limit the deadline shrinks to one
- *     second, so that trickling connections cannot hold every slot;
+ *     before). Near the connection limit (within a tenth of it) the
+ *     deadline shrinks to a quarter of a second, so that trickling
+ *     connections cannot hold every slot (a client's request line and
+ *     headers come in one packet or a few, in far less);
  *   - the upload rate: once --header-timeout has passed since its
  *     headers, a body must have averaged --min-upload-rate bytes/s.
  *
@@ -38,8 +40,9 @@
  * close notification also takes, so a socket is never written after
  * libmicrohttpd closed it. Cost: per request a few atomic stores; per
  * connection one allocation and the lock twice; the thread wakes every
- * 100 ms and walks the connections every 250 ms (one getsockopt per
- * kept-alive connection waiting for a request).
+ * 100 ms and walks the connections every 250 ms, every 100 ms near the
+ * connection limit (one getsockopt per kept-alive connection waiting for a
+ * request).
  */
 #ifndef VOR_SRV_GUARD_H
 #define VOR_SRV_GUARD_H

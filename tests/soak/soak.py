@@ -482,12 +482,15 @@ def slowloris(args):
                         c[1] = (c[1] + 1) % len(req)
                     except OSError:
                         pass
-            r, _, _ = select.select([c[0] for c in conns], [], [], 0.05)
+            poller = select.poll()
+            for c in conns:
+                poller.register(c[0], select.POLLIN)
+            r = [fd for fd, _ in poller.poll(50)]
             if r:
                 keep = []
                 dead = set(r)
                 for c in conns:
-                    if c[0] in dead:
+                    if c[0].fileno() in dead:
                         try:
                             b = c[0].recv(4096)
                         except OSError:
