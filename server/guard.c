@@ -402,6 +402,21 @@ uint64_t srv_guard_closed(const srv_guard *g, srv_guard_reason why) {
     return atomic_load(&((srv_guard *)g)->closed[why]);
 }
 
+size_t srv_guard_pending(srv_guard *g, double young_s) {
+    size_t n = 0;
+    int64_t now = srv_now_ns(), young = (int64_t)(young_s * 1e9);
+    pthread_mutex_lock(&g->lock);
+    for (srv_guard_conn *k = g->head; k != NULL; k = k->next) {
+        if (atomic_load(&k->phase) != PH_HEAD || atomic_load(&k->served) != 0)
+            continue;
+        if (now - atomic_load(&k->since_ns) < young ||
+            bytes_received(k->fd) > 0)
+            n++;
+    }
+    pthread_mutex_unlock(&g->lock);
+    return n;
+}
+
 size_t srv_guard_open(const srv_guard *g) {
     return atomic_load(&((srv_guard *)g)->n_open_pub);
 }

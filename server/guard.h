@@ -114,4 +114,9 @@ uint64_t srv_guard_closed(const srv_guard *g, srv_guard_reason why);
 /* Connections open now. */
 size_t srv_guard_open(const srv_guard *g);
 
+/* New connections that have not yet made a request but may be about to:
+ * they sent part of one, or are younger than `young_s` seconds. A
+ * stopping daemon waits for these too (see srv_server_wait_idle). */
+size_t srv_guard_pending(srv_guard *g, double young_s);
+
 #endif /* VOR_SRV_GUARD_H */

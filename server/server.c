@@ -20,6 +20,7 @@
 #include <linux/filter.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <stdarg.h>
 #include <stdatomic.h>
 #include <stdint.h>
@@ -48,6 +49,10 @@
  * written (accesslog.h): short enough for a person or a log shipper
  * watching the file, long enough to write hundreds of lines at once. */
 #define SRV_LOG_DELAY_MS 20
+/* Closing the listener, the accept queue must stay empty this long: a
+ * handshake under way completes within a round trip (srv_server_stop_
+ * listening). */
+#define SRV_QUEUE_QUIET_MS 200
 
 static double ms_since(int64_t t0_ns) {
     return (double)(srv_now_ns() - t0_ns) / 1e6;
@@ -380,21 +385,30 @@ void srv_server_drain(srv_server *s) { atomic_store(&s->draining, 1); }
  * listening socket (MHD_quiesce_daemon). Closing it would reset every
  * connection still waiting in its accept queue, and closing right after
  * emptying the queue would reset those that complete their handshake in
- * between. So a socket filter that drops every packet is attached first:
- * no further handshake can complete (a client's SYN goes unanswered; it
- * retries, and then finds the port closed). The queue is then emptied by
- * hand, each connection given to libmicrohttpd to be served like any
- * other (with Connection: close), and the socket closed. */
+ * between. So a socket filter is attached first that drops every new
+ * connection attempt (a TCP segment with SYN and without ACK: the
+ * client's SYN goes unanswered; it retries, and then finds the port
+ * closed) but lets handshakes already under way complete. The queue is
+ * then emptied by hand until it stays empty for SRV_QUEUE_QUIET_MS, each
+ * connection given to libmicrohttpd to be served like any other (with
+ * Connection: close), and the socket closed. */
 void srv_server_stop_listening(srv_server *s) {
     srv_server_drain(s);
     if (s->listen_closed) return;
     s->listen_closed = 1;
     MHD_socket lfd = MHD_quiesce_daemon(s->daemon);
     if (lfd == MHD_INVALID_SOCKET) return;
-    struct sock_filter drop_all[] = {BPF_STMT(BPF_RET | BPF_K, 0)};
-    struct sock_fprog prog = {1, drop_all};
-    int filtered = setsockopt(lfd, SOL_SOCKET, SO_ATTACH_FILTER, &prog,
-                              sizeof prog) == 0;
+    /* The filter sees the TCP header at offset 0; byte 13 holds the
+     * flags. */
+    struct sock_filter no_new[] = {
+        BPF_STMT(BPF_LD | BPF_B | BPF_ABS, 13),
+        BPF_STMT(BPF_ALU | BPF_AND | BPF_K, 0x12),           /* SYN|ACK */
+        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, 0x02, 0, 1),     /* SYN only */
+        BPF_STMT(BPF_RET | BPF_K, 0),                         /* drop */
+        BPF_STMT(BPF_RET | BPF_K, 0xffffffffu),               /* keep */
+    };
+    struct sock_fprog prog = {sizeof no_new / sizeof no_new[0], no_new};
+    (void)setsockopt(lfd, SOL_SOCKET, SO_ATTACH_FILTER, &prog, sizeof prog);
     int fl = fcntl(lfd, F_GETFL);
     if (fl >= 0) fcntl(lfd, F_SETFL, fl | O_NONBLOCK);
     for (;;) {
@@ -403,19 +417,15 @@ void srv_server_stop_listening(srv_server *s) {
         int fd = accept(lfd, (struct sockaddr *)&addr, &alen);
         if (fd < 0) {
             if (errno == EINTR) continue;
-            break; /* EAGAIN: the queue is empty */
+            /* Empty: wait for handshakes under way, or the quiet end. */
+            struct pollfd p = {lfd, POLLIN, 0};
+            if (poll(&p, 1, SRV_QUEUE_QUIET_MS) > 0) continue;
+            break;
         }
         s->accepted_late++;
         /* libmicrohttpd closes fd itself when it cannot take it. */
         (void)MHD_add_connection(s->daemon, fd, (struct sockaddr *)&addr,
                                  alen);
-    }
-    if (!filtered) {
-        /* Without the filter, wait a moment for handshakes in flight. */
-        struct timespec nap = {0, 20 * 1000 * 1000};
-        nanosleep(&nap, NULL);
-        for (int fd; (fd = accept(lfd, NULL, NULL)) >= 0;)
-            (void)MHD_add_connection(s->daemon, fd, NULL, 0);
     }
     close(lfd);
 }
@@ -432,7 +442,11 @@ size_t srv_server_in_flight(const srv_server *s) {
 int srv_server_wait_idle(const srv_server *s, double seconds) {
     int64_t until = srv_now_ns() + (int64_t)(seconds * 1e9);
     for (;;) {
-        if (srv_server_in_flight(s) == 0) return 0;
+        /* Requests received, and once the listener is closed, connections
+         * taken from its queue whose request has not come in yet. */
+        if (srv_server_in_flight(s) == 0 &&
+            (!s->listen_closed || srv_guard_pending(s->guard, 1.0) == 0))
+            return 0;
         if (srv_now_ns() >= until) return -1;
         struct timespec nap = {0, 5 * 1000 * 1000};
         nanosleep(&nap, NULL);

@@ -55,7 +55,10 @@ size_t srv_server_accepted_late(const srv_server *s);
 /* Requests received and not yet answered. */
 size_t srv_server_in_flight(const srv_server *s);
 
-/* Waits until no request is in flight, at most `seconds`. 0 when idle. */
+/* Waits until no request is in flight, at most `seconds` (once the
+ * daemon stopped listening, also until the connections it took from the
+ * kernel's queue have sent their requests, or a second has passed, or
+ * they sent part of one and wait for --header-timeout). 0 when idle. */
 int srv_server_wait_idle(const srv_server *s, double seconds);
 
 /* Answers every request still queued or computing with 503 (the result of
