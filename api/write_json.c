@@ -237,10 +237,11 @@ static int write_clipped(const api_request *r, const api_result *res,
 int api__write_json(const api_request *r, const api_result *res,
                     api_timings *t, double t0, api_buf *out) {
     unsigned parts = api__effective_parts(r);
-    /* Most of a large document is edges: reserve a good guess at once. */
+    /* Most of a large document is edges: reserve a good guess at once
+     * (not when the document streams out through a flush hook). */
     size_t guess = 256 + 48 * res->diagram->n_vertices +
                    64 * res->diagram->n_edges + 48 * res->sites->n;
-    if (api__reserve(out, guess)) return -1;
+    if (out->flush == NULL && api__reserve(out, guess)) return -1;
     if (write_header(res, out)) return -1;
     if ((parts & API_PART_SITES) && write_sites(res, out)) return -1;
     if ((parts & API_PART_VERTICES) && write_vertices(res->diagram, out)) return -1;
