@@ -7,6 +7,8 @@
 #   make python-client  the Python client against a daemon and scipy
 #   make tsan       the server's tests under ThreadSanitizer (make test runs it)
 #   make bench      benchmark tables and plots into build/bench/
+#   make soak       ten minutes of mixed and hostile load (SOAK_SECONDS=60
+#                   for a short run); not part of make test
 #   make deps       install missing Debian packages (root), or say how
 #
 # Sources are found by wildcard: core/*.c -> libvor, api/*.c api/*.cc ->
@@ -215,6 +217,17 @@ test: deps deps-test
 	done; \
 	if [ $$fail = 0 ]; then echo "make test: all passed"; \
 	else echo "make test: FAILED:$$failed"; fi; exit $$fail
+
+# ---- soak (not part of make test) -----------------------------------------
+# Ten minutes (SOAK_SECONDS) of mixed and hostile load against the ASan
+# build; prints requests by status, p50/p99, RSS, resets and sanitizer
+# reports (tests/soak/soak.py; its other scenarios measure the targets of
+# the slow-client and memory work: --scenario nonreaders|slowloris|sigterm).
+.PHONY: soak
+SOAK_SECONDS ?= 600
+soak: deps $(B)/asan/voronoid
+	SOAK_SECONDS=$(SOAK_SECONDS) VOR_DAEMON=$(B)/asan/voronoid \
+	    python3 tests/soak/soak.py --scenario mixed
 
 # ---- bench ---------------------------------------------------------------
 # Owned by bench/. bench/run builds the drivers (make bench-bins, each peer

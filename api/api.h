@@ -37,7 +37,11 @@
     X(API_INTERNAL, "internal", 500, "Internal error")                       \
     X(API_UNAVAILABLE, "unavailable", 503, "Service unavailable")            \
     X(API_TIMEOUT, "timeout", 504, "Deadline exceeded")                      \
-    X(API_NOT_IMPLEMENTED, "not-implemented", 501, "Not implemented")
+    X(API_NOT_IMPLEMENTED, "not-implemented", 501, "Not implemented")      \
+    X(API_REQUEST_TIMEOUT, "request-timeout", 408, "Request timeout")      \
+    X(API_URI_TOO_LONG, "uri-too-long", 414, "Request line too long")      \
+    X(API_HEADERS_TOO_LARGE, "headers-too-large", 431,                     \
+      "Request headers too large")
 
 typedef enum api_code {
 #define API__ENUM(name, slug, http, title) name,
@@ -79,6 +83,16 @@ typedef struct api_buf {
     char *data;
     size_t len, cap;
     int oom; /* set when an append failed; the contents are then incomplete */
+    /* Streaming (optional, NULL by default): once len reaches flush_at and
+     * more room is needed, the bytes written so far are handed to
+     * flush(flush_ctx, data, n) and dropped from the buffer (all but the
+     * last len % 8, so that offsets modulo 8 -- the binary writer's
+     * padding -- stay those of the whole document); a non-zero return
+     * stops the writer as if memory ran out. The writer then never holds
+     * much more than flush_at bytes. */
+    int (*flush)(void *flush_ctx, const char *data, size_t n);
+    void *flush_ctx;
+    size_t flush_at;
 } api_buf;
 
 void api_buf_init(api_buf *b);

@@ -26,9 +26,29 @@ char *api_buf_take(api_buf *b, size_t *len) {
     return d;
 }
 
+/* Hands what the buffer holds to its flush hook (api.h); -1 (oom set)
+ * when the hook refuses. */
+static int flush_out(api_buf *b) {
+    size_t give = b->len & ~(size_t)7;
+    if (give == 0) return 0;
+    if (b->flush(b->flush_ctx, b->data, give) != 0) {
+        b->oom = 1;
+        return -1;
+    }
+    memmove(b->data, b->data + give, b->len - give);
+    b->len -= give;
+    b->data[b->len] = 0;
+    return 0;
+}
+
 int api__buf_reserve(api_buf *b, size_t extra) {
     if (b->oom) return -1;
     if (extra <= b->cap - b->len && b->cap - b->len - extra >= 1) return 0;
+    if (b->flush != NULL && b->len >= b->flush_at) {
+        if (flush_out(b)) return -1;
+        if (extra <= b->cap - b->len && b->cap - b->len - extra >= 1)
+            return 0;
+    }
     size_t need = b->len + extra + 1;
     if (need < b->len) { /* overflow */
         b->oom = 1;

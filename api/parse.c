@@ -902,20 +902,48 @@ done:
 
 static inline int is_blank(char c) { return c == ' ' || c == '\t'; }
 
+/* Whether the word [s, e) (no separators in it) is a number as strtod
+ * reads one, whole: "5", "+.5", "1e3", "0x1p3", and the words nan, inf and
+ * infinity in any case. Quotes around the word are ignored. */
+static int word_is_number(const char *s, const char *e) {
+    if (e - s >= 2 && *s == '"' && e[-1] == '"') {
+        s++;
+        e--;
+    }
+    size_t n = (size_t)(e - s);
+    if (n == 0) return 0;
+    char small[128], *w = n < sizeof small ? small : malloc(n + 1);
+    if (w == NULL) return 1; /* cannot tell: not a header, then */
+    memcpy(w, s, n);
+    w[n] = '\0';
+    char *stop;
+    (void)strtod(w, &stop);
+    int whole = stop == w + n;
+    if (w != small) free(w);
+    return whole;
+}
+
 /* A first line of column names ("x,y", "lon lat", "\"x\";\"y\""): starts
- * with a letter or a quote and holds only name characters and separators. */
+ * with a letter or a quote, holds only name characters and separators, and
+ * none of its words is a number that strtod would read ("nan,0" and
+ * "inf 5" are points, refused for their values, not names to skip). */
 static int is_header(const char *s, const char *e) {
     if (s >= e || !((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') ||
                     *s == '"')) {
         return 0;
     }
-    for (; s < e; s++) {
-        char c = *s;
-        if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-              (c >= '0' && c <= '9') || c == '_' || c == '"' || c == ',' ||
-              c == ';' || is_blank(c))) {
+    for (const char *c = s; c < e; c++) {
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') ||
+              (*c >= '0' && *c <= '9') || *c == '_' || *c == '"' ||
+              *c == ',' || *c == ';' || is_blank(*c))) {
             return 0;
         }
+    }
+    while (s < e) {
+        while (s < e && (is_blank(*s) || *s == ',' || *s == ';')) s++;
+        const char *w = s;
+        while (s < e && !(is_blank(*s) || *s == ',' || *s == ';')) s++;
+        if (s > w && word_is_number(w, s)) return 0;
     }
     return 1;
 }
@@ -960,7 +988,7 @@ static api_code parse_text(api_request *r, const char *body, size_t len,
     points pts = {NULL, 0, 0, lim->max_points};
     const char *p = body, *end = body + len;
     if (len >= 3 && memcmp(p, "\xef\xbb\xbf", 3) == 0) p += 3;
-    long line = 0;
+    long line = 0, header_line = 0;
     int seen_content = 0;
     api_code c = API_OK;
     while (p < end) {
@@ -976,7 +1004,10 @@ static api_code parse_text(api_request *r, const char *body, size_t len,
         if (s == e) continue;
         if (!seen_content) {
             seen_content = 1;
-            if (is_header(s, e)) continue;
+            if (is_header(s, e)) {
+                header_line = line;
+                continue;
+            }
         }
         double x, y;
         const char *q = s;
@@ -1004,6 +1035,14 @@ static api_code parse_text(api_request *r, const char *body, size_t len,
         pts.xy[2 * pts.n] = x;
         pts.xy[2 * pts.n + 1] = y;
         pts.n++;
+    }
+    if (pts.n == 0 && header_line > 0) {
+        /* Only names: a file that lost its data, or data that looks like
+         * names; either way not an empty point set. */
+        c = api__problem_at(prob, API_MALFORMED, NULL, header_line,
+                            "line %ld was taken for column names and no line "
+                            "holds a point (two numbers)", header_line);
+        goto done;
     }
     free(r->xy);
     r->xy = pts.xy;

@@ -239,10 +239,11 @@ static int write_clipped(const api_request *r, const api_result *res,
 int api__write_json(const api_request *r, const api_result *res,
                     api_timings *t, double t0, api_buf *out) {
     unsigned parts = api__effective_parts(r);
-    /* Most of a large document is edges: reserve a good guess at once. */
+    /* Most of a large document is edges: reserve a good guess at once
+     * (not when the document streams out through a flush hook). */
     size_t guess = 256 + 48 * res->diagram->n_vertices +
                    64 * res->diagram->n_edges + 48 * res->sites->n;
-    if (api__reserve(out, guess)) return -1;
+    if (out->flush == NULL && api__reserve(out, guess)) return -1;
     if (write_header(res, out)) return -1;
     if ((parts & API_PART_SITES) && write_sites(res, out)) return -1;
     if ((parts & API_PART_VERTICES) && write_vertices(res->diagram, out)) return -1;
@@ -258,10 +259,13 @@ int api__write_json(const api_request *r, const api_result *res,
             return -1;
     }
     if (res->traced) {
-        if (API_BUF_LIT(out, ",\"trace\":{\"steps\":[") ||
-            api_buf_append(out, res->trace.data, res->trace.len) ||
-            API_BUF_LIT(out, "]}"))
-            return -1;
+        if (API_BUF_LIT(out, ",\"trace\":{\"steps\":[")) return -1;
+        /* in pieces, so that a streamed answer flushes as it goes */
+        for (size_t k = 0; k < res->trace.len; k += 16384) {
+            size_t n = res->trace.len - k < 16384 ? res->trace.len - k : 16384;
+            if (api_buf_append(out, res->trace.data + k, n)) return -1;
+        }
+        if (API_BUF_LIT(out, "]}")) return -1;
     }
     if (API_BUF_LIT(out, ",\"timings\":")) return -1;
     api__finish_timings(t, t0);

@@ -230,12 +230,10 @@ static inline double vor__incircle_static_bound(double span) {
     return VOR__ICC_BOUND * 16.0 * (m * m) * (m * m);
 }
 
-/* Same result as vor_incircle(a, b, c, d), for points whose coordinate
- * differences are within the span that bound s was made for. */
 /* The sign from the static bound alone, 0 when it cannot decide. */
-static inline int vor__incircle_static_filter(const double *a, const double *b,
-                                              const double *c, const double *d,
-                                              double s) {
+static inline __attribute__((always_inline)) int
+vor__incircle_static_filter(const double *a, const double *b, const double *c,
+                            const double *d, double s) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double alift = adx * adx + ady * ady;
@@ -247,17 +245,19 @@ static inline int vor__incircle_static_filter(const double *a, const double *b,
     return (det > s) - (det < -s); /* no branch on the sign */
 }
 
-static inline int vor__incircle_static(const double *a, const double *b,
-                                       const double *c, const double *d,
-                                       double s) {
+/* Same result as vor_incircle(a, b, c, d), for points whose coordinate
+ * differences are within the span that bound s was made for. */
+static inline __attribute__((always_inline)) int
+vor__incircle_static(const double *a, const double *b, const double *c,
+                     const double *d, double s) {
     int r = vor__incircle_static_filter(a, b, c, d, s);
     return r ? r : vor__incircle_fast(a, b, c, d);
 }
 
 /* The counting form (see "Counting forms" above). */
-static inline int vor__incircle_static_n(const double *a, const double *b,
-                                         const double *c, const double *d,
-                                         double s, uint64_t *exact) {
+static inline __attribute__((always_inline)) int
+vor__incircle_static_n(const double *a, const double *b, const double *c,
+                       const double *d, double s, uint64_t *exact) {
     int r = vor__incircle_static_filter(a, b, c, d, s);
     if (r) return r;
     r = vor__incircle_filter(a, b, c, d);

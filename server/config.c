@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 typedef enum opt_kind {
     OPT_ADDR,    /* numeric IPv4 / IPv6 address -> char[64] */
@@ -71,11 +72,47 @@ static const opt_def opts[] = {
      "close a connection idle or stalled this long (default 30)"},
     {"max-connections", "VORONOID_MAX_CONNECTIONS", OPT_UINT, 1, 100000,
      OFF(max_connections), "N", "open connections at most (default 1024)"},
+    {"max-connections-per-ip", "VORONOID_MAX_CONNECTIONS_PER_IP", OPT_UINT,
+     0, 100000, OFF(max_connections_per_ip), "N",
+     "open connections from one client address at most; 0 = no limit "
+     "(default 128)"},
+    {"header-timeout", "VORONOID_HEADER_TIMEOUT", OPT_SECONDS, 0.1, 3600,
+     OFF(header_timeout), "SECONDS", "time a client has to send a request's "
+     "line and headers, else 408 and close (default 10)"},
+    {"min-upload-rate", "VORONOID_MIN_UPLOAD_RATE", OPT_SIZE, 0,
+     1024.0 * 1024 * 1024, OFF(min_upload_rate), "BYTES", "bytes per second "
+     "a body must average once --header-timeout has passed since its "
+     "headers, else 408 and close; 0 = no minimum (default 1K)"},
+    {"send-timeout", "VORONOID_SEND_TIMEOUT", OPT_SECONDS, 1, 3600,
+     OFF(send_timeout), "SECONDS", "drop a connection whose client reads "
+     "nothing of its answer this long, freeing the answer (default 10)"},
+    {"drain", "VORONOID_DRAIN", OPT_SECONDS, 0, 3600, OFF(drain), "SECONDS",
+     "on SIGTERM/SIGINT, keep accepting (with Connection: close) this long "
+     "while /readyz says 503, then stop listening (default 5)"},
+    {"answer-memory", "VORONOID_ANSWER_MEMORY", OPT_SIZE, 16.0 * 1024 * 1024,
+     1024.0 * 1024 * 1024 * 1024, OFF(answer_memory), "BYTES",
+     "memory for requests being computed and answers being sent, across "
+     "all connections; past it, large requests get 503 (default: a "
+     "quarter of the machine's memory, at most 1G)"},
     {"web-dir", "VORONOID_WEB_DIR", OPT_DIR, 0, 0, OFF(web_dir), "DIR",
      "serve the page from this directory instead of the built-in copy"},
 };
 
 #define N_OPTS (sizeof opts / sizeof opts[0])
+
+size_t srv_config_answer_memory_for(unsigned long long ram) {
+    const unsigned long long lo = 64ull << 20, hi = 1ull << 30;
+    unsigned long long v = ram / 4;
+    if (ram == 0 || v > hi) v = hi;
+    if (v < lo) v = lo;
+    return (size_t)v;
+}
+
+static unsigned long long machine_memory(void) {
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || size <= 0) return 0;
+    return (unsigned long long)pages * (unsigned long long)size;
+}
 
 void srv_config_defaults(srv_config *out, int cpus) {
     if (cpus < 1) cpus = 1;
@@ -93,6 +130,12 @@ void srv_config_defaults(srv_config *out, int cpus) {
     out->grace = 10;
     out->connection_timeout = 30;
     out->max_connections = 1024;
+    out->max_connections_per_ip = 128;
+    out->header_timeout = 10;
+    out->min_upload_rate = 1024;
+    out->send_timeout = 10;
+    out->drain = 5;
+    out->answer_memory = srv_config_answer_memory_for(machine_memory());
 }
 
 static void errf(char *err, size_t size, const char *fmt, ...)
@@ -119,6 +162,20 @@ static int parse_integer(const char *s, long long *out) {
     if (errno != 0 || *end != '\0') return -1;
     *out = v;
     return 0;
+}
+
+/* A size as the help shows it: 0, 1K, 64M, 4G, 1024G. */
+static const char *size_text(char *buf, size_t size, double v) {
+    static const char units[] = "GMK";
+    for (int i = 0; i < 3; i++) {
+        double unit = (double)(1ull << (10 * (3 - i)));
+        if (v >= unit && fmod(v, unit) == 0) {
+            snprintf(buf, size, "%.0f%c", v / unit, units[i]);
+            return buf;
+        }
+    }
+    snprintf(buf, size, "%.0f", v);
+    return buf;
 }
 
 /* Applies one value of setting o from source (a flag "--x" or a variable
@@ -171,9 +228,11 @@ static int apply(const opt_def *o, const char *source, const char *value,
             iv < 0 || iv > (LLONG_MAX >> 30) ||
             (double)(iv << shift) < o->min ||
             (double)(iv << shift) > o->max) {
+            char lo[16], hi[16];
             errf(err, err_size, "invalid value for %s: '%s' (expected a size "
-                 "in bytes from 1K to 4G, with an optional K, M or G suffix)",
-                 source, value);
+                 "in bytes from %s to %s, with an optional K, M or G suffix)",
+                 source, value, size_text(lo, sizeof lo, o->min),
+                 size_text(hi, sizeof hi, o->max));
             return -1;
         }
         *(size_t *)field = (size_t)(iv << shift);
@@ -286,8 +345,10 @@ void srv_config_usage(FILE *f) {
           "\n"
           "Endpoints: POST /voronoi, POST /compare, GET / (the page),\n"
           "GET /openapi.yaml, GET /healthz, GET /readyz, GET /metrics.\n"
-          "SIGTERM or SIGINT: stop accepting, finish in-flight requests "
-          "within\n--grace seconds, exit 0.\n", f);
+          "SIGTERM or SIGINT: /readyz turns 503; keep accepting for "
+          "--drain seconds\n(answers say Connection: close), stop listening, "
+          "finish in-flight requests\nwithin --grace seconds, exit 0. A "
+          "second signal cuts both short.\n", f);
 }
 
 void srv_config_print(const srv_config *c, FILE *f) {
@@ -295,9 +356,13 @@ void srv_config_print(const srv_config *c, FILE *f) {
             "voronoid: config bind=%s port=%d http-threads=%d workers=%d "
             "queue=%d inline-points=%zu max-body=%zu max-points=%zu "
             "timeout=%gs grace=%gs connection-timeout=%us "
-            "max-connections=%u web-dir=%s\n",
+            "max-connections=%u max-connections-per-ip=%u "
+            "header-timeout=%gs min-upload-rate=%zu send-timeout=%gs "
+            "drain=%gs answer-memory=%zu web-dir=%s\n",
             c->bind, c->port, c->http_threads, c->workers, c->queue,
             c->inline_points, c->max_body, c->max_points, c->timeout, c->grace,
             c->connection_timeout, c->max_connections,
+            c->max_connections_per_ip, c->header_timeout, c->min_upload_rate,
+            c->send_timeout, c->drain, c->answer_memory,
             c->web_dir[0] ? c->web_dir : "(built in)");
 }

@@ -26,6 +26,14 @@ typedef struct srv_config {
     double grace;               /* seconds to finish in-flight work on SIGTERM */
     unsigned connection_timeout;/* seconds a connection may stay idle */
     unsigned max_connections;
+    unsigned max_connections_per_ip; /* 0 = no limit per client address */
+    double header_timeout;      /* seconds for a request line and headers */
+    size_t min_upload_rate;     /* bytes/s a body must keep up; 0 = none */
+    double send_timeout;        /* seconds an answer may wait for a client
+                                   that does not read */
+    double drain;               /* seconds of accepting with Connection:
+                                   close after SIGTERM, before closing */
+    size_t answer_memory;       /* bytes: budget of answers in flight */
     char web_dir[4096];         /* "" = the embedded page */
 } srv_config;
 
@@ -39,8 +47,13 @@ typedef enum srv_config_result {
 typedef const char *(*srv_getenv_fn)(const char *name);
 
 /* Fills *out with the defaults (cpus = number of processors, used for the
- * thread counts). Cannot fail. */
+ * thread counts; the answer memory comes from the machine's memory, see
+ * srv_config_answer_memory_for). Cannot fail. */
 void srv_config_defaults(srv_config *out, int cpus);
+
+/* The default --answer-memory for a machine with ram bytes of memory (0 =
+ * unknown): a quarter of it, at most 1 GiB, at least 64 MiB. */
+size_t srv_config_answer_memory_for(unsigned long long ram);
 
 /* Parses argv[1..argc-1] and the environment (through env, which may be
  * NULL for none) over the defaults. On SRV_CONFIG_ERROR err holds one line

@@ -1,9 +1,12 @@
 /* main.c -- voronoid's entry point: configuration, signals, shutdown.
  *
  * SIGTERM and SIGINT are blocked before any thread starts, so only the main
- * thread receives them (sigwait). On the first one: stop accepting, wait up
- * to --grace for in-flight requests, answer what is left with 503, stop,
- * exit 0. A second signal during the grace period cuts it short.
+ * thread receives them (sigwait). On the first one: /readyz turns 503 and
+ * answers say Connection: close while the daemon keeps accepting for
+ * --drain seconds (so that load balancers notice before connections are
+ * refused); then it stops listening without resetting what the kernel had
+ * queued, waits up to --grace for in-flight requests, answers what is left
+ * with 503, stops, exits 0. A second signal cuts drain and grace short.
  *
  * The allocator is told once, before any thread starts, to keep up to
  * 16 MiB of free memory per arena rather than give it back to the system
@@ -20,6 +23,7 @@
  * a 10-point request's 122,000, against 400 more in free() without them.
  */
 #include <malloc.h>
+#include <time.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +34,13 @@
 #include "server.h"
 
 static const char *env_lookup(const char *name) { return getenv(name); }
+
+/* A SIGTERM or SIGINT arrived (SIGHUP does not count); does not wait. */
+static int second_signal(const sigset_t *sigs) {
+    struct timespec zero = {0, 0};
+    int sig = sigtimedwait(sigs, NULL, &zero);
+    return sig == SIGTERM || sig == SIGINT;
+}
 
 int main(int argc, char **argv) {
     srv_config cfg;
@@ -60,6 +71,7 @@ int main(int argc, char **argv) {
     sigemptyset(&sigs);
     sigaddset(&sigs, SIGTERM);
     sigaddset(&sigs, SIGINT);
+    sigaddset(&sigs, SIGHUP);
     pthread_sigmask(SIG_BLOCK, &sigs, NULL);
     signal(SIGPIPE, SIG_IGN);
 
@@ -74,20 +86,43 @@ int main(int argc, char **argv) {
     fprintf(stderr, "voronoid: listening on http://%s%s%s:%d/\n",
             ipv6 ? "[" : "", cfg.bind, ipv6 ? "]" : "", srv_server_port(s));
 
+    /* SIGHUP, which supervisors send to have a daemon reload, would end
+     * the process by default; there is nothing to reload (settings are
+     * read once, the log is stderr), so it is noted and ignored. */
     int sig = 0;
-    sigwait(&sigs, &sig);
-    srv_server_flush_log(s);
-    fprintf(stderr, "voronoid: %s: draining %zu request(s), grace %g s\n",
-            sig == SIGINT ? "SIGINT" : "SIGTERM", srv_server_in_flight(s),
-            cfg.grace);
+    while (sigwait(&sigs, &sig) == 0 && sig == SIGHUP) {
+        srv_server_flush_log(s);
+        fprintf(stderr, "voronoid: SIGHUP: nothing to reload, ignored\n");
+    }
     srv_server_drain(s);
+    srv_server_flush_log(s);
+    fprintf(stderr, "voronoid: %s: draining: /readyz says 503, still "
+            "accepting for %g s\n", sig == SIGINT ? "SIGINT" : "SIGTERM",
+            cfg.drain);
+
+    /* Keep accepting for --drain seconds, watching for a second signal. */
+    int hurry = 0;
+    for (double waited = 0; waited < cfg.drain && !hurry; waited += 0.05) {
+        struct timespec nap = {0, 50 * 1000 * 1000};
+        nanosleep(&nap, NULL);
+        hurry = second_signal(&sigs);
+    }
+    srv_server_stop_listening(s);
+    srv_server_flush_log(s);
+    fprintf(stderr, "voronoid: stopped listening (%zu connection(s) taken "
+            "from the queue); finishing %zu request(s), grace %g s\n",
+            srv_server_accepted_late(s), srv_server_in_flight(s),
+            hurry ? 0.0 : cfg.grace);
+    if (hurry) {
+        fprintf(stderr, "voronoid: second signal: not waiting longer\n");
+    }
 
     /* Wait for in-flight requests, watching for a second signal. */
-    struct timespec zero = {0, 0};
     double waited = 0;
-    while (srv_server_wait_idle(s, 0.05) != 0 && waited < cfg.grace) {
+    while (!hurry && srv_server_wait_idle(s, 0.05) != 0 &&
+           waited < cfg.grace) {
         waited += 0.05;
-        if (sigtimedwait(&sigs, NULL, &zero) > 0) {
+        if (second_signal(&sigs)) {
             srv_server_flush_log(s);
             fprintf(stderr, "voronoid: second signal: not waiting longer\n");
             break;

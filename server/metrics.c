@@ -192,4 +192,36 @@ void srv_metrics_render(srv_metrics *m, const srv_gauges *g, api_buf *out) {
     header(out, "voronoid_ready", "gauge",
            "1 when accepting work, 0 while shutting down.");
     api_buf_printf(out, "voronoid_ready %d\n", g->ready ? 1 : 0);
+    header(out, "voronoid_answer_memory_bytes", "gauge",
+           "Bytes held for requests in flight (bodies, computations, "
+           "answers), against --answer-memory.");
+    api_buf_printf(out, "voronoid_answer_memory_bytes %zu\n",
+                   g->answer_memory);
+    header(out, "voronoid_answer_memory_capacity_bytes", "gauge",
+           "The budget, --answer-memory.");
+    api_buf_printf(out, "voronoid_answer_memory_capacity_bytes %zu\n",
+                   g->answer_memory_capacity);
+    header(out, "voronoid_answer_memory_peak_bytes", "gauge",
+           "The most held at once since the start.");
+    api_buf_printf(out, "voronoid_answer_memory_peak_bytes %zu\n",
+                   g->answer_memory_peak);
+    header(out, "voronoid_answer_memory_refused_total", "counter",
+           "Requests refused with 503 because they did not fit the budget.");
+    api_buf_printf(out, "voronoid_answer_memory_refused_total %zu\n",
+                   g->answer_memory_refused);
+    header(out, "voronoid_connections", "gauge", "Open connections.");
+    api_buf_printf(out, "voronoid_connections %zu\n", g->connections);
+    header(out, "voronoid_connections_closed_total", "counter",
+           "Connections closed for their slowness: headers past "
+           "--header-timeout (408), silent new connections, bodies under "
+           "--min-upload-rate (408).");
+    api_buf_printf(out,
+                   "voronoid_connections_closed_total{reason=\"header-"
+                   "timeout\"} %llu\n"
+                   "voronoid_connections_closed_total{reason=\"silent\"} "
+                   "%llu\n"
+                   "voronoid_connections_closed_total{reason=\"upload-"
+                   "rate\"} %llu\n",
+                   g->closed_header_timeout, g->closed_silent,
+                   g->closed_upload_rate);
 }

@@ -23,6 +23,11 @@ typedef struct srv_gauges {
     size_t running, workers;
     size_t in_flight;  /* requests received and not yet answered */
     int ready;         /* 0 while draining */
+    size_t answer_memory, answer_memory_capacity, answer_memory_peak;
+    size_t answer_memory_refused;   /* requests refused for the budget */
+    size_t connections;             /* open, as the guard counts them */
+    unsigned long long closed_header_timeout, closed_silent,
+        closed_upload_rate;         /* connections closed by the guard */
 } srv_gauges;
 
 srv_metrics *srv_metrics_new(void); /* NULL on allocation failure */

@@ -4,7 +4,9 @@
  * Life cycle (main.c):
  *
  *     srv_server_new  -- listening, serving
- *     srv_server_drain        -- SIGTERM: stop accepting, /readyz 503
+ *     srv_server_drain        -- SIGTERM: /readyz 503, Connection: close
+ *     srv_server_stop_listening -- after --drain: stop accepting, serve
+ *                                  what the kernel had queued
  *     srv_server_wait_idle    -- until every accepted request is answered
  *     srv_server_cancel       -- grace over: answer what is left with 503
  *     srv_server_free         -- stop the daemon and the pool
@@ -37,14 +39,26 @@ int srv_server_port(const srv_server *s);
  * same file, so the file stays in order. */
 void srv_server_flush_log(srv_server *s);
 
-/* Stops accepting new connections and turns /readyz to 503. Requests on
- * connections already open are still served (with Connection: close). */
+/* Turns /readyz to 503 and has every answer say Connection: close; new
+ * connections are still accepted and served. Idempotent. */
 void srv_server_drain(srv_server *s);
+
+/* Stops accepting connections (draining, if not yet): no connection
+ * that reached the kernel's accept queue is reset -- those already queued
+ * are accepted and served -- and later ones are refused. Requests on open
+ * connections are still served. Idempotent; main thread only. */
+void srv_server_stop_listening(srv_server *s);
+
+/* Connections taken from the accept queue by srv_server_stop_listening. */
+size_t srv_server_accepted_late(const srv_server *s);
 
 /* Requests received and not yet answered. */
 size_t srv_server_in_flight(const srv_server *s);
 
-/* Waits until no request is in flight, at most `seconds`. 0 when idle. */
+/* Waits until no request is in flight, at most `seconds` (once the
+ * daemon stopped listening, also until the connections it took from the
+ * kernel's queue have sent their requests, or a second has passed, or
+ * they sent part of one and wait for --header-timeout). 0 when idle. */
 int srv_server_wait_idle(const srv_server *s, double seconds);
 
 /* Answers every request still queued or computing with 503 (the result of

@@ -473,9 +473,14 @@ static void test_text_accepted(void **state) {
     assert_int_equal(parse_kind(&o, API_IN_TEXT, "", 0, 10), API_OK);
     assert_int_equal(o.r.n, 0);
     api_request_clear(&o.r);
-    assert_int_equal(parse_kind(&o, API_IN_TEXT, "lon lat\n# none\n", 15, 10),
-                     API_OK);
-    assert_int_equal(o.r.n, 0);
+    /* Column names are skipped, quoted or not, numbers in names too. */
+    assert_int_equal(parse_kind(&o, API_IN_TEXT, "\"lon1\";\"lat1\"\n1;2\n",
+                                strlen("\"lon1\";\"lat1\"\n1;2\n"), 10), API_OK);
+    assert_int_equal(o.r.n, 1);
+    api_request_clear(&o.r);
+    assert_int_equal(parse_kind(&o, API_IN_TEXT, "nancy infinite\n1 2\n", 19,
+                                10), API_OK);
+    assert_int_equal(o.r.n, 1);
     api_request_clear(&o.r);
 
     /* AUTO: text unless it starts like JSON. */
@@ -549,6 +554,21 @@ static void test_text_refusals(void **state) {
          "line 3: coordinate \"nan\" is not a finite number"},
         {"-inf 0", API_INVALID, NULL, 1, "coordinate \"-inf\" is not a finite"},
         {"1 2\n1e999 3", API_INVALID, NULL, 2, "line 2: coordinate 1e999 overflows"},
+        /* A first line holding a number strtod reads is a point, never a
+         * header to skip: nan and inf are refused with their line. */
+        {"nan,0\n1,2\n3,4\n5,6\n", API_INVALID, NULL, 1,
+         "line 1: coordinate \"nan\" is not a finite number"},
+        {"inf 5\n1 2\n", API_INVALID, NULL, 1,
+         "line 1: coordinate \"inf\" is not a finite number"},
+        {"# c\nNaN;NAN\n", API_INVALID, NULL, 2, "coordinate \"NaN\""},
+        {"x,5\n1,2\n", API_MALFORMED, NULL, 1,
+         "line 1: expected two numbers, got \"x,5\""},
+        {"Infinity x\n1,2\n", API_INVALID, NULL, 1, "\"Infinity\""},
+        /* Only names: an error, not an empty diagram. */
+        {"lon lat\n# none\n", API_MALFORMED, NULL, 1,
+         "line 1 was taken for column names and no line holds a point"},
+        {"\n\nx,y\n\n", API_MALFORMED, NULL, 3, "line 3 was taken"},
+        {"hello\n", API_MALFORMED, NULL, 1, "no line holds a point"},
     };
     check_refusals(API_IN_TEXT, cases, sizeof cases / sizeof cases[0], 100);
     static const refusal too_many[] = {

@@ -4,7 +4,7 @@
 // array, made by tests/deploy/run). Checks that the Deployment's probes use
 // /readyz (readiness) and /healthz (liveness) on the port the container's
 // --port flag names, that terminationGracePeriodSeconds covers the preStop
-// pause plus --grace, that the selectors of the Deployment, Service and
+// pause plus --drain plus --grace, that the selectors of the Deployment, Service and
 // PodDisruptionBudget match the pod labels, that the Service targets the
 // container port and that the autoscaler scales the Deployment. Prints the
 // container's args, one per line, for the caller to start the daemon with;
@@ -64,9 +64,10 @@ let pause = 0;
 if (pre?.sleep) pause = Number(pre.sleep.seconds);
 else if (pre?.exec?.command?.some((w) => /sleep$/.test(w)))
   pause = Number(pre.exec.command[pre.exec.command.length - 1]);
+const drain = Number(flag('drain') ?? 5);
 const tgps = tpl.spec?.terminationGracePeriodSeconds ?? 30;
-need(tgps >= pause + grace,
-     `terminationGracePeriodSeconds ${tgps} < preStop ${pause} + --grace ${grace}`);
+need(tgps >= pause + drain + grace,
+     `terminationGracePeriodSeconds ${tgps} < preStop ${pause} + --drain ${drain} + --grace ${grace}`);
 const matches = (sel) => sel && Object.keys(sel).length > 0 &&
   Object.entries(sel).every(([k, v]) => labels[k] === v);
 need(matches(dep.spec?.selector?.matchLabels), 'Deployment selector does not match its pods');

@@ -113,7 +113,8 @@ static void it__track(pid_t pid, int add) {
 }
 
 /* Starts $VOR_DAEMON --bind 127.0.0.1 --port 0 with the extra flags
- * (NULL-terminated, may be NULL). Returns 0 once it is listening. */
+ * (NULL-terminated, may be NULL), and --drain 0 unless they name a drain
+ * period. Returns 0 once it is listening. */
 IT_UNUSED static int it_start(it_daemon *d, const char *const *extra) {
     const char *bin = getenv("VOR_DAEMON");
     memset(d, 0, sizeof *d);
@@ -132,7 +133,15 @@ IT_UNUSED static int it_start(it_daemon *d, const char *const *extra) {
     argv[argc++] = "127.0.0.1";
     argv[argc++] = "--port";
     argv[argc++] = "0";
-    for (int i = 0; extra && extra[i] && argc < 62; i++) argv[argc++] = extra[i];
+    int drain_given = 0;
+    for (int i = 0; extra && extra[i] && argc < 60; i++) {
+        argv[argc++] = extra[i];
+        if (strncmp(extra[i], "--drain", 7) == 0) drain_given = 1;
+    }
+    if (!drain_given) { /* tests stop daemons often: no drain period */
+        argv[argc++] = "--drain";
+        argv[argc++] = "0";
+    }
     argv[argc] = NULL;
 
     pid_t pid = fork();

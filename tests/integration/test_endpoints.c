@@ -404,6 +404,30 @@ static void test_gzip_timing_cors_ids(void **state) {
     it_free(&r);
 }
 
+/* The security headers of everything a browser may render: a policy
+ * that allows only the service's own scripts and styles and no framing,
+ * no MIME sniffing, no referrer. */
+static void check_page_headers(const it_resp *r, const char *what) {
+    char h[512];
+    const char *csp = it_header(r, "Content-Security-Policy", h, sizeof h);
+    if (csp == NULL) fail_msg("%s: no Content-Security-Policy", what);
+    static const char *const must[] = {
+        "default-src 'none'", "script-src 'self'", "style-src 'self'",
+        "connect-src 'self'", "frame-ancestors 'none'", "base-uri 'none'",
+    };
+    for (size_t i = 0; i < sizeof must / sizeof must[0]; i++)
+        if (strstr(csp, must[i]) == NULL)
+            fail_msg("%s: policy \"%s\" lacks %s", what, csp, must[i]);
+    if (strstr(csp, "unsafe-inline") || strstr(csp, "unsafe-eval"))
+        fail_msg("%s: policy allows inline code: %s", what, csp);
+    const char *nosniff = it_header(r, "X-Content-Type-Options", h, sizeof h);
+    if (nosniff == NULL || strcmp(nosniff, "nosniff") != 0)
+        fail_msg("%s: X-Content-Type-Options %s", what, nosniff);
+    const char *ref = it_header(r, "Referrer-Policy", h, sizeof h);
+    if (ref == NULL || strcmp(ref, "no-referrer") != 0)
+        fail_msg("%s: Referrer-Policy %s", what, ref);
+}
+
 static void test_page_and_files(void **state) {
     (void)state;
     it_resp r;
@@ -416,6 +440,7 @@ static void test_page_and_files(void **state) {
                         "text/html; charset=utf-8");
     assert_non_null(strstr(r.body, "<html"));
     assert_non_null(strstr(r.body, "main.js"));
+    check_page_headers(&r, "/");
     size_t page_len = r.len;
     snprintf(etag, sizeof etag, "%s", it_header(&r, "ETag", h, sizeof h));
     it_free(&r);
@@ -457,8 +482,33 @@ static void test_page_and_files(void **state) {
         assert_string_equal(it_header(&r, "Content-Type", h, sizeof h),
                             files[i].ctype);
         assert_non_null(strstr(r.body, files[i].needle));
+        check_page_headers(&r, files[i].path);
         it_free(&r);
     }
+
+    /* Problem pages, problem documents of other routes, and SVG answers
+     * carry the policy too; JSON answers at least nosniff. */
+    static const char *const more[] = {"/problems/invalid", "/nowhere",
+                                       "/healthz", "/metrics"};
+    for (size_t i = 0; i < sizeof more / sizeof more[0]; i++) {
+        it_req qp = {.path = more[i]};
+        it_http(&d, &qp, &r);
+        check_page_headers(&r, more[i]);
+        it_free(&r);
+    }
+    static const char pts[] = "[[0,0],[1,0],[0,1],[1,1]]";
+    it_req qs = {.path = "/voronoi?format=svg", .body = pts,
+                 .len = sizeof pts - 1};
+    it_http(&d, &qs, &r);
+    assert_int_equal(r.status, 200);
+    check_page_headers(&r, "svg answer");
+    it_free(&r);
+    it_req qj = {.path = "/voronoi", .body = pts, .len = sizeof pts - 1};
+    it_http(&d, &qj, &r);
+    assert_int_equal(r.status, 200);
+    assert_string_equal(it_header(&r, "X-Content-Type-Options", h, sizeof h),
+                        "nosniff");
+    it_free(&r);
 }
 
 static void test_health_ready_metrics_log(void **state) {

@@ -1,6 +1,8 @@
 /* test_shutdown.c -- SIGTERM and SIGINT with requests in flight:
  *   - every accepted request gets its complete answer, /readyz turns 503
  *     on a connection that was already open, and the daemon exits 0;
+ *   - under load, with a drain period: no client connection is reset,
+ *     every request sent is answered 200 or 503, exit 0;
  *   - when --grace runs out first, what is still queued or computing is
  *     answered 503 (never dropped) and the daemon still exits 0.
  * Slow requests are sized on this machine first; no durations are
@@ -9,7 +11,9 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <errno.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <cmocka.h>
 
 #include "harness.h"
@@ -93,8 +97,10 @@ static void test_sigterm_loses_nothing(void **state) {
     assert_non_null(strstr(buf, "/problems/unavailable"));
     close(fd);
 
-    /* New connections are refused at once rather than left waiting in a
-     * backlog nobody accepts from: a load balancer tries another daemon. */
+    /* Once the drain period (0 here) is over, new connections are
+     * refused at once rather than left waiting in a backlog nobody
+     * accepts from: a load balancer tries another daemon. */
+    wait_log(&d, "stopped listening");
     int late = it_connect(d.port);
     if (late >= 0) close(late);
     assert_true(late < 0);
@@ -119,6 +125,127 @@ static void test_sigterm_loses_nothing(void **state) {
     free(log);
     assert_int_equal(rc, 0);
     it_cleanup(&d);
+}
+
+/* ---- SIGTERM under load: the drain ---------------------------------------- */
+
+typedef struct hammer {
+    int port;
+    atomic_int *stop;
+    long ok, unavailable, other, resets, no_answer, refused, close_seen;
+} hammer;
+
+/* Small requests, one per connection, until connections are refused (or
+ * *stop, a hang guard). Counts every outcome. */
+static void *run_hammer(void *arg) {
+    hammer *h = arg;
+    static const char req[] =
+        "POST /voronoi HTTP/1.1\r\nHost: x\r\nContent-Type: "
+        "application/json\r\nContent-Length: 40\r\n\r\n"
+        "[[0,0],[1,0],[0,1],[1,1],[0.5,0.5]]     ";
+    while (!atomic_load(h->stop)) {
+        int fd = socket(AF_INET, SOCK_STREAM, 0);
+        struct sockaddr_in a;
+        memset(&a, 0, sizeof a);
+        a.sin_family = AF_INET;
+        a.sin_port = htons((uint16_t)h->port);
+        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        if (connect(fd, (struct sockaddr *)&a, sizeof a) != 0) {
+            int e = errno;
+            close(fd);
+            if (e == ECONNREFUSED) {
+                h->refused++;
+                break; /* the daemon stopped listening */
+            }
+            if (e == ECONNRESET) h->resets++;
+            continue;
+        }
+        if (send(fd, req, sizeof req - 1, MSG_NOSIGNAL) !=
+            (ssize_t)(sizeof req - 1)) {
+            if (errno == ECONNRESET || errno == EPIPE) h->resets++;
+            close(fd);
+            continue;
+        }
+        char buf[8192];
+        size_t n = 0;
+        int reset = 0;
+        for (;;) {
+            struct pollfd p = {fd, POLLIN, 0};
+            if (poll(&p, 1, 60000) <= 0) break;
+            ssize_t got = recv(fd, buf + n, sizeof buf - 1 - n, 0);
+            if (got < 0 && errno == ECONNRESET) reset = 1;
+            if (got <= 0) break;
+            n += (size_t)got;
+            buf[n] = '\0';
+            const char *end = strstr(buf, "\r\n\r\n");
+            const char *cl = strcasestr_like(buf, "\r\nContent-Length:");
+            if (end && cl && n >= (size_t)(end + 4 - buf) + (size_t)atol(cl + 17))
+                break;
+        }
+        buf[n] = '\0';
+        close(fd);
+        int status = it_raw_status(buf);
+        if (reset) h->resets++;
+        else if (status == 200) h->ok++;
+        else if (status == 503) h->unavailable++;
+        else if (status == 0) h->no_answer++;
+        else h->other++;
+        if (strcasestr_like(buf, "\r\nConnection: close")) h->close_seen++;
+    }
+    return NULL;
+}
+
+/* Eight clients keep connecting while the daemon gets SIGTERM with a
+ * drain period: no client connection is reset, every request sent is
+ * answered 200 or 503, the answers during the drain say Connection:
+ * close, then connections are refused and the daemon exits 0. Three runs
+ * here; make soak and the report run ten. */
+static void test_sigterm_under_load_resets_nothing(void **state) {
+    (void)state;
+    for (int run = 0; run < 3; run++) {
+        it_daemon d;
+        const char *args[] = {"--drain", "0.5", "--grace", "30", NULL};
+        assert_int_equal(it_start(&d, args), 0);
+        enum { N = 8 };
+        hammer h[N];
+        pthread_t th[N];
+        atomic_int stop;
+        atomic_init(&stop, 0);
+        memset(h, 0, sizeof h);
+        for (int i = 0; i < N; i++) {
+            h[i].port = d.port;
+            h[i].stop = &stop;
+            assert_int_equal(pthread_create(&th[i], NULL, run_hammer, &h[i]),
+                             0);
+        }
+        it_sleep(0.3);
+        kill(d.pid, SIGTERM);
+        int rc = it_stop(&d, 0);
+        atomic_store(&stop, 1);
+        hammer t;
+        memset(&t, 0, sizeof t);
+        for (int i = 0; i < N; i++) {
+            pthread_join(th[i], NULL);
+            t.ok += h[i].ok;
+            t.unavailable += h[i].unavailable;
+            t.other += h[i].other;
+            t.resets += h[i].resets;
+            t.no_answer += h[i].no_answer;
+            t.refused += h[i].refused;
+            t.close_seen += h[i].close_seen;
+        }
+        printf("run %d: %ld x 200, %ld x 503, %ld other, %ld resets, %ld "
+               "unanswered, %ld Connection: close, exit %d\n", run, t.ok,
+               t.unavailable, t.other, t.resets, t.no_answer, t.close_seen,
+               rc);
+        assert_int_equal(rc, 0);
+        assert_int_equal(t.resets, 0);
+        assert_int_equal(t.no_answer, 0);
+        assert_int_equal(t.other, 0);
+        assert_true(t.ok > 0);
+        assert_true(t.close_seen > 0); /* the drain's answers */
+        it_cleanup(&d);
+    }
 }
 
 static void test_grace_over_answers_503(void **state) {
@@ -195,6 +322,7 @@ int main(void) {
     curl_global_init(CURL_GLOBAL_ALL);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sigterm_loses_nothing),
+        cmocka_unit_test(test_sigterm_under_load_resets_nothing),
         cmocka_unit_test(test_grace_over_answers_503),
         cmocka_unit_test(test_port_in_use_refused),
     };

@@ -49,8 +49,27 @@ static void test_defaults(void **state) {
     assert_true(c.timeout == 60.0);
     assert_true(c.grace == 10.0);
     assert_int_equal(c.connection_timeout, 30);
+    assert_int_equal(c.max_connections_per_ip, 128);
+    assert_true(c.header_timeout == 10.0);
+    assert_int_equal(c.min_upload_rate, 1024);
+    assert_true(c.send_timeout == 10.0);
+    assert_true(c.drain == 5.0);
+    assert_true(c.answer_memory >= (64u << 20) &&
+                c.answer_memory <= (1u << 30));
     assert_string_equal(c.web_dir, "");
     assert_string_equal(err, "");
+}
+
+/* The default answer budget: a quarter of the machine's memory, between
+ * 64 MiB and 1 GiB; 1 GiB when the memory is not known. */
+static void test_answer_memory_default(void **state) {
+    (void)state;
+    const unsigned long long g = 1ull << 30;
+    assert_int_equal(srv_config_answer_memory_for(24 * g), 1u << 30);
+    assert_int_equal(srv_config_answer_memory_for(4 * g), 1u << 30);
+    assert_int_equal(srv_config_answer_memory_for(2 * g), 512u << 20);
+    assert_int_equal(srv_config_answer_memory_for(g / 8), 64u << 20);
+    assert_int_equal(srv_config_answer_memory_for(0), 1u << 30);
 }
 
 static void test_every_flag_both_forms(void **state) {
@@ -62,8 +81,17 @@ static void test_every_flag_both_forms(void **state) {
               "--workers", "3", "--queue=7", "--max-body", "2M",
               "--max-points=500", "--timeout", "0.25", "--grace=1.5",
               "--http-threads", "2", "--connection-timeout=5",
-              "--max-connections", "99", "--web-dir", "/tmp", NULL),
+              "--max-connections", "99", "--web-dir", "/tmp",
+              "--max-connections-per-ip=0", "--header-timeout", "2.5",
+              "--min-upload-rate=0", "--send-timeout", "3", "--drain=0",
+              "--answer-memory", "256M", NULL),
         SRV_CONFIG_OK);
+    assert_int_equal(c.max_connections_per_ip, 0);
+    assert_true(c.header_timeout == 2.5);
+    assert_int_equal(c.min_upload_rate, 0);
+    assert_true(c.send_timeout == 3.0);
+    assert_true(c.drain == 0.0);
+    assert_int_equal(c.answer_memory, 256u << 20);
     assert_string_equal(c.bind, "::1");
     assert_int_equal(c.port, 0);
     assert_int_equal(c.workers, 3);
@@ -131,6 +159,9 @@ static void test_help(void **state) {
                            "--max-body", "--max-points", "--timeout",
                            "--grace", "--web-dir", "--http-threads",
                            "--connection-timeout", "--max-connections",
+                           "--max-connections-per-ip", "--header-timeout",
+                           "--min-upload-rate", "--send-timeout", "--drain",
+                           "--answer-memory", "VORONOID_ANSWER_MEMORY",
                            "VORONOID_PORT", "VORONOID_WEB_DIR", NULL};
     for (int i = 0; names[i]; i++) assert_non_null(strstr(text, names[i]));
 }
@@ -156,7 +187,7 @@ static void test_every_bad_value(void **state) {
         {NULL, "--workers", "257", "--workers", "257"},
         {NULL, "--queue", "0", "--queue", "'0'"},
         {NULL, "--queue", "1e3", "--queue", "1e3"},
-        {NULL, "--max-body", "12", "--max-body", "'12'"},
+        {NULL, "--max-body", "12", "--max-body", "1K to 4G"},
         {NULL, "--max-body", "5G", "--max-body", "5G"},
         {NULL, "--max-body", "1T", "--max-body", "1T"},
         {NULL, "--max-body", "K", "--max-body", "'K'"},
@@ -172,6 +203,22 @@ static void test_every_bad_value(void **state) {
         {NULL, "--http-threads", "0", "--http-threads", "'0'"},
         {NULL, "--connection-timeout", "0", "--connection-timeout", "'0'"},
         {NULL, "--max-connections", "0", "--max-connections", "'0'"},
+        {NULL, "--max-connections-per-ip", "-1", "--max-connections-per-ip",
+         "-1"},
+        {NULL, "--max-connections-per-ip", "100001", "--max-connections-per-ip",
+         "100001"},
+        {NULL, "--header-timeout", "0", "--header-timeout", "'0'"},
+        {NULL, "--header-timeout", "0.05", "--header-timeout", "0.05"},
+        {NULL, "--min-upload-rate", "fast", "--min-upload-rate", "fast"},
+        {NULL, "--min-upload-rate", "2G", "--min-upload-rate", "0 to 1G"},
+        {NULL, "--send-timeout", "0.5", "--send-timeout", "0.5"},
+        {NULL, "--drain", "-1", "--drain", "-1"},
+        {NULL, "--drain", "3601", "--drain", "3601"},
+        {NULL, "--answer-memory", "1M", "--answer-memory", "16M to 1024G"},
+        {NULL, "--answer-memory", "2048G", "--answer-memory", "2048G"},
+        {"VORONOID_ANSWER_MEMORY=half", NULL, NULL, "VORONOID_ANSWER_MEMORY",
+         "half"},
+        {"VORONOID_DRAIN=soon", NULL, NULL, "VORONOID_DRAIN", "soon"},
         {NULL, "--bind", "localhost", "--bind", "localhost"},
         {NULL, "--bind", "1.2.3.256", "--bind", "1.2.3.256"},
         {NULL, "--web-dir", "/nonexistent/dir", "--web-dir", "/nonexistent"},
@@ -205,7 +252,7 @@ static void test_every_bad_value(void **state) {
 static void test_print(void **state) {
     (void)state;
     srv_config c;
-    char err[256], text[1024];
+    char err[256], text[2048];
     assert_int_equal(parse(&c, err, sizeof err, NULL, "--port", "1234", NULL),
                      SRV_CONFIG_OK);
     FILE *f = fmemopen(text, sizeof text, "w");
@@ -214,11 +261,14 @@ static void test_print(void **state) {
     fclose(f);
     assert_non_null(strstr(text, "port=1234"));
     assert_non_null(strstr(text, "web-dir=(built in)"));
+    assert_non_null(strstr(text, "drain=5s"));
+    assert_non_null(strstr(text, "header-timeout=10s"));
 }
 
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_answer_memory_default),
         cmocka_unit_test(test_every_flag_both_forms),
         cmocka_unit_test(test_size_suffixes),
         cmocka_unit_test(test_environment_and_precedence),

@@ -50,9 +50,19 @@ static void test_counts_and_histogram(void **state) {
     srv_metrics_aborted(m, SRV_ROUTE_COMPARE);
     srv_metrics_compute(m, VOR_FLIP, 1000, 0.5);
     srv_metrics_compute(m, VOR_FLIP, 24, 0.25);
-    srv_gauges g = {3, 64, 2, 2, 5, 1};
+    srv_gauges g = {3, 64, 2, 2, 5, 1, 7000, 1 << 30, 9000, 4, 12, 6, 5, 3};
     char *t = render(m, &g);
 
+    assert_true(sample(t, "voronoid_answer_memory_bytes") == 7000);
+    assert_true(sample(t, "voronoid_answer_memory_capacity_bytes") ==
+                1073741824.0);
+    assert_true(sample(t, "voronoid_answer_memory_peak_bytes") == 9000);
+    assert_true(sample(t, "voronoid_answer_memory_refused_total") == 4);
+    assert_true(sample(t, "voronoid_connections") == 12);
+    assert_true(sample(t, "voronoid_connections_closed_total{reason="
+                          "\"header-timeout\"}") == 6);
+    assert_true(sample(t, "voronoid_connections_closed_total{reason="
+                          "\"upload-rate\"}") == 3);
     assert_true(sample(t, "voronoid_requests_total{route=\"/voronoi\","
                           "status=\"200\"}") == 3);
     assert_true(sample(t, "voronoid_requests_total{route=\"/voronoi\","
@@ -110,7 +120,7 @@ static void test_exposition_syntax(void **state) {
     (void)state;
     srv_metrics *m = srv_metrics_new();
     srv_metrics_request(m, SRV_ROUTE_PAGE, 304, 0.001);
-    srv_gauges g = {0, 1, 0, 1, 0, 0};
+    srv_gauges g = {0, 1, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0};
     char *t = render(m, &g);
     char declared[64][80];
     int n_declared = 0, helps = 0;
@@ -185,7 +195,7 @@ static void test_threads(void **state) {
     pthread_t th[4];
     for (int i = 0; i < 4; i++) pthread_create(&th[i], NULL, hammer, m);
     for (int i = 0; i < 4; i++) pthread_join(th[i], NULL);
-    srv_gauges g = {0, 1, 0, 1, 0, 1};
+    srv_gauges g = {0, 1, 0, 1, 0, 1, 0, 1, 0, 0, 0, 0, 0, 0};
     char *t = render(m, &g);
     assert_true(sample(t, "voronoid_requests_total{route=\"/compare\","
                           "status=\"200\"}") == 40000);
