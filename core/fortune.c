@@ -242,6 +242,9 @@ static inline int cmp_keyed(const keyed *a, const keyed *b) {
 }
 
 #define SMALL_SORT 256 /* below this, sort the whole array at once */
+/* Fewer sites than this use neither the map of y nor event buckets (see
+ * "Event queue"). */
+#define BUCKET_MIN_SITES 64
 #define TINY_SORT 16   /* at most this, insertion sort */
 
 /* Insertion sort of r[j..k-1] by (y, x). */
@@ -454,8 +457,8 @@ static vor_status grid_build(ymap *m, const keyed *a, size_t n, double y0,
  * the keys. With try_linear, when the plain linear map of y agrees with
  * the tables (evenly spread y), the linear map is used instead: its
  * buckets are as good, and it costs a multiplication instead of two
- * table look-ups per event. A sample decides that first, for n >= 4096,
- * and then no table is built; smaller inputs compare with the tables.
+ * table look-ups per event. A sample decides that, for n >= 4096
+ * (smaller inputs keep the tables: their events are few).
  * Otherwise a grid of equal y steps (grid_build) serves when no cell of
  * it is crowded, which leaves the tables for heavy tails and outliers.
  * VOR_ENOMEM on failure (m->block NULL). */
@@ -547,18 +550,6 @@ static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
     }
     free(cnt);
     free(bmin);
-    /* linear enough: at 1024 evenly spaced y the linear map stays within
-     * n / 64 of the tables' rank (uniform y, not gaussian); then it
-     * replaces them (cheaper, and with no table in the cache) */
-    if (try_linear && m->scale > 0 && m->scale <= DBL_MAX) {
-        double worst = 0;
-        for (int j = 0; j <= 1024; j++) {
-            double y = y0 + (y1 - y0) * ((double)j / 1024);
-            double dev = fabs((y - y0) * m->scale - (double)ymap_rank(m, y));
-            worst = dev > worst ? dev : worst;
-        }
-        m->linear = worst <= (double)n / 64;
-    }
     return VOR_OK;
 }
 
@@ -608,11 +599,14 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
         kmin = k < kmin ? k : kmin;
         kmax = k > kmax ? k : kmax;
     }
-    /* the linear map only off a lattice: on one, many events share a
+    /* The map serves the bucket sort and the event buckets, neither of
+     * which a small input uses (a 10-point request must not pay for it).
+     * The linear map only off a lattice: on one, many events share a
      * top, and the rank map's coarser buckets send them to the heap at
      * once, which orders them with fewer comparisons than the buckets'
-     * scans would */
-    if ((st = ymap_build(&w->ymap, a, n, kmin, kmax, !w->lattice)) != VOR_OK)
+     * scans would. */
+    if (n >= BUCKET_MIN_SITES &&
+        (st = ymap_build(&w->ymap, a, n, kmin, kmax, !w->lattice)) != VOR_OK)
         goto done;
     st = VOR_ENOMEM;
     keyed *r;
@@ -1244,7 +1238,6 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * the input. They also move there after the last site, when buckets
  * would no longer split anything, and the heap serves small inputs.
  */
-#define BUCKET_MIN_SITES 64
 #define BUCKET_READS 16
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
