@@ -154,6 +154,12 @@ typedef struct ymap {
     int linear;
     double y0, scale;
     uint32_t n;
+    /* when they are spread smoothly over a bounded range (gaussian,
+     * clusters), a grid of equal y steps with the rank at each step
+     * serves instead of the tables: rank at t = (y - y0) * gscale is
+     * grid[c] and a share of grid[c + 1] - grid[c], c = floor(t) */
+    uint32_t *grid; /* YMAP_GRID + 1 ranks, or NULL */
+    double gscale;
 } ymap;
 
 typedef struct sweep {
@@ -257,6 +263,9 @@ static inline int cmp_keyed(const keyed *a, const keyed *b) {
 }
 
 #define SMALL_SORT 256 /* below this, sort the whole array at once */
+/* Fewer sites than this use neither the map of y nor event buckets (see
+ * "Event queue"). */
+#define BUCKET_MIN_SITES 64
 #define TINY_SORT 16   /* at most this, insertion sort */
 
 /* Insertion sort of r[j..k-1] by (y, x). */
@@ -360,6 +369,7 @@ static void sort_range(keyed *r, size_t j, size_t k) {
  * lower), which is all that sorting and the queue need for exactness;
  * evenness only makes them fast. A cluster narrower than a bin still lands
  * in one bucket; the queue then falls back to its heap. */
+#define YMAP_GRID 4096 /* cells of the grid of equal y steps */
 #define YMAP_BITS 12
 #define YMAP_FRAC 24 /* bits of the place within a bin */
 #define YMAP_PER_BIN 16 /* sites per bin aimed at */
@@ -380,10 +390,21 @@ static inline uint32_t table_rank(const ymap_table *t, uint64_t k,
 
 /* Rank estimate in [0, n - 1] of y (n >= 1 sites); values beyond the
  * sites' range are clamped to it. Monotone in y. */
-static inline uint32_t ymap_rank(const ymap *m, double y) {
+static inline __attribute__((always_inline)) uint32_t
+ymap_rank(const ymap *m, double y) {
     if (m->linear) {
         double t = (y - m->y0) * m->scale; /* nan (y = -inf): 0 */
         return t >= 0 ? t < (double)m->n ? (uint32_t)t : m->n - 1 : 0;
+    }
+    if (m->grid) {
+        double t = (y - m->y0) * m->gscale;
+        if (!(t > 0)) return 0; /* also nan */
+        if (t >= YMAP_GRID) return m->n - 1;
+        uint32_t c = (uint32_t)t, lo = m->grid[c], hi = m->grid[c + 1];
+        /* hi - lo sites in the cell: the place within it, below hi (the
+         * product may round up to hi - lo itself) */
+        uint32_t off = (uint32_t)((t - (double)c) * (double)(hi - lo));
+        return lo + (off < hi - lo ? off : hi - lo - (hi > lo));
     }
     uint64_t k = dkey(y + 0.0); /* + 0.0: -0.0 and 0.0 differ as keys */
     uint32_t b, r = table_rank(&m->top, k, &b);
@@ -420,6 +441,35 @@ static int linear_enough(const keyed *a, size_t n, double y0, double y1) {
     return 1;
 }
 
+/* The grid of equal y steps over [y0, y1] (see ymap), kept in m->grid
+ * when no cell holds more than 16 times its share of the n sites (no
+ * heavy tail, no far outlier); else m->grid stays NULL. One pass. */
+static vor_status grid_build(ymap *m, const keyed *a, size_t n, double y0,
+                             double y1) {
+    double gs = (double)YMAP_GRID / (y1 - y0);
+    if (!(gs > 0 && gs <= DBL_MAX) || n < 4 * (size_t)YMAP_GRID) return VOR_OK;
+    uint32_t *g = calloc(YMAP_GRID + 2, sizeof *g);
+    if (!g) return VOR_ENOMEM;
+    for (size_t j = 0; j < n; j++) {
+        double t = (kdouble(a[j].k) - y0) * gs;
+        uint32_t c = t >= YMAP_GRID ? YMAP_GRID - 1 : (uint32_t)t;
+        g[c + 1]++;
+    }
+    uint32_t most = 0;
+    for (uint32_t c = 1; c <= YMAP_GRID; c++) {
+        most = g[c] > most ? g[c] : most;
+        g[c] += g[c - 1];
+    }
+    g[YMAP_GRID + 1] = g[YMAP_GRID]; /* t == YMAP_GRID exactly: clamped */
+    if ((size_t)most > 16 * (n / YMAP_GRID)) {
+        free(g);
+        return VOR_OK;
+    }
+    m->grid = g;
+    m->gscale = gs;
+    return VOR_OK;
+}
+
 /* Builds m over the keys of a[0..n-1] (n >= 1), whose smallest and
  * largest are kmin and kmax: the top table, then a table for each bin
  * that holds more than four times its share and more than 64 sites,
@@ -428,8 +478,10 @@ static int linear_enough(const keyed *a, size_t n, double y0, double y1) {
  * the keys. With try_linear, when the plain linear map of y agrees with
  * the tables (evenly spread y), the linear map is used instead: its
  * buckets are as good, and it costs a multiplication instead of two
- * table look-ups per event. A sample decides that first, for n >= 4096,
- * and then no table is built; smaller inputs compare with the tables.
+ * table look-ups per event. A sample decides that, for n >= 4096
+ * (smaller inputs keep the tables: their events are few).
+ * Otherwise a grid of equal y steps (grid_build) serves when no cell of
+ * it is crowded, which leaves the tables for heavy tails and outliers.
  * VOR_ENOMEM on failure (m->block NULL). */
 static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
                              uint64_t kmin, uint64_t kmax, int try_linear) {
@@ -443,6 +495,8 @@ static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
         m->linear = 1; /* no tables: the sample says they would agree */
         return VOR_OK;
     }
+    if (grid_build(m, a, n, y0, y1) != VOR_OK) return VOR_ENOMEM;
+    if (m->grid) return VOR_OK;
     ymap_table *t = &m->top;
     uint32_t nb = table_shape(t, kmin, kmax, n / YMAP_PER_BIN);
     /* top counts and, per bin, its smallest and largest key */
@@ -517,18 +571,6 @@ static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
     }
     free(cnt);
     free(bmin);
-    /* linear enough: at 1024 evenly spaced y the linear map stays within
-     * n / 64 of the tables' rank (uniform y, not gaussian); then it
-     * replaces them (cheaper, and with no table in the cache) */
-    if (try_linear && m->scale > 0 && m->scale <= DBL_MAX) {
-        double worst = 0;
-        for (int j = 0; j <= 1024; j++) {
-            double y = y0 + (y1 - y0) * ((double)j / 1024);
-            double dev = fabs((y - y0) * m->scale - (double)ymap_rank(m, y));
-            worst = dev > worst ? dev : worst;
-        }
-        m->linear = worst <= (double)n / 64;
-    }
     return VOR_OK;
 }
 
@@ -578,11 +620,14 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
         kmin = k < kmin ? k : kmin;
         kmax = k > kmax ? k : kmax;
     }
-    /* the linear map only off a lattice: on one, many events share a
+    /* The map serves the bucket sort and the event buckets, neither of
+     * which a small input uses (a 10-point request must not pay for it).
+     * The linear map only off a lattice: on one, many events share a
      * top, and the rank map's coarser buckets send them to the heap at
      * once, which orders them with fewer comparisons than the buckets'
-     * scans would */
-    if ((st = ymap_build(&w->ymap, a, n, kmin, kmax, !w->lattice)) != VOR_OK)
+     * scans would. */
+    if (n >= BUCKET_MIN_SITES &&
+        (st = ymap_build(&w->ymap, a, n, kmin, kmax, !w->lattice)) != VOR_OK)
         goto done;
     st = VOR_ENOMEM;
     keyed *r;
@@ -1341,7 +1386,6 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * the input. They also move there after the last site, when buckets
  * would no longer split anything, and the heap serves small inputs.
  */
-#define BUCKET_MIN_SITES 64
 #define BUCKET_READS 16
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
@@ -1692,6 +1736,7 @@ static void sweep_free(sweep *w) {
     free(w->rec_block);
     free(w->bhead);
     free(w->ymap.block);
+    free(w->ymap.grid);
     free(w->ehe);
     free(w->tri);
     free(w->adj);

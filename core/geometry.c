@@ -32,6 +32,7 @@
  */
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include "predicates.h"
 
@@ -76,7 +77,7 @@ void vor_bisector_dir(const double *a, const double *b, double *out) {
         x = -(b[1] * 0.5 - a[1] * 0.5);
         y = b[0] * 0.5 - a[0] * 0.5;
     }
-    double m = fmax(fabs(x), fabs(y));
+    double m = fabs(x) > fabs(y) ? fabs(x) : fabs(y);
     if (m == 0) { /* a == b: no direction */
         out[0] = 0;
         out[1] = 0;
@@ -84,11 +85,27 @@ void vor_bisector_dir(const double *a, const double *b, double *out) {
     }
     /* scale by a power of two so the larger component is in [1/2, 1):
      * exact (bar underflow of a negligible component), and the sum of
-     * squares can neither overflow nor underflow */
-    int e;
-    frexp(m, &e);
-    x = ldexp(x, -e);
-    y = ldexp(y, -e);
+     * squares can neither overflow nor underflow. For a normal m the
+     * factor 2^-e is built from its bits and multiplied in, which rounds
+     * an underflowing component exactly as ldexp() does (both round the
+     * exact product to nearest); ldexp and frexp are library calls, and
+     * a diagram of sites in convex position has a ray per site. */
+    uint64_t u;
+    memcpy(&u, &m, sizeof u);
+    int ex = (int)(u >> 52); /* m >= 0: no sign bit */
+    if (ex >= 1 && ex <= 2044) {
+        int e = ex - 1022; /* m = f 2^e, f in [1/2, 1) */
+        uint64_t v = (uint64_t)(1023 - e) << 52;
+        double f;
+        memcpy(&f, &v, sizeof f);
+        x *= f;
+        y *= f;
+    } else {
+        int e;
+        frexp(m, &e);
+        x = ldexp(x, -e);
+        y = ldexp(y, -e);
+    }
     double h = sqrt(x * x + y * y);
     out[0] = x / h + 0.0;
     out[1] = y / h + 0.0;

@@ -976,6 +976,20 @@ static void test_event_queue(void **state) {
     assert_non_null(xy);
     print_message("event queue: vt_uniform seed 31\n");
     check_points("uniform, buckets throughout", xy, n, 1);
+    /* the y maps behind the buckets: the grid of equal y steps, and the
+     * key tables when a far site crowds the grid */
+    double *yv = malloc(2 * n * sizeof *yv);
+    assert_non_null(yv);
+    vt_rng g = {31};
+    for (size_t i = 0; i < n; i++) {
+        yv[2 * i] = xy[2 * i];
+        yv[2 * i + 1] = vt_gauss(&g);
+    }
+    check_points("gaussian y: the grid of equal y steps", yv, n, 1);
+    for (size_t i = 0; i < n; i++)
+        yv[2 * i + 1] = exp(2 * vt_gauss(&g)) + (i == 7 ? 1e9 : 0);
+    check_points("log-normal y and a far site: the tables", yv, n, 1);
+    free(yv);
     for (size_t i = 0; i < n; i++) xy[2 * i + 1] *= 1e-6;
     xy[1] = 1e3;
     check_points("flat band and a far site", xy, n, 1);
