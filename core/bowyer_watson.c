@@ -40,7 +40,7 @@
 
 #define XY(v) (xy + 2 * (size_t)(v))
 
-/* Construction state. The two scratch arrays share one capacity, which
+/* Construction state. The scratch arrays share one capacity, which
  * starts at 256 and doubles when a cavity needs more; so does the trace's
  * scratch, when there is a trace. */
 typedef struct bw {
@@ -49,6 +49,7 @@ typedef struct bw {
     vor__walk w;
     uint32_t *cav; /* cavity triangles in the order found: the free slots */
     uint32_t *bnd; /* twins of the boundary edges, counter-clockwise */
+    uint32_t *lost; /* the vertex each cavity triangle's mark replaced */
     size_t cap;
     uint64_t created, removed; /* triangles, ghosts included (vor_counts) */
     vor__run *run;
@@ -73,6 +74,9 @@ static int grow(bw *st) {
     if (!(v = realloc(st->bnd, cap * sizeof *v)))
         return -1;
     st->bnd = v;
+    if (!(v = realloc(st->lost, cap * sizeof *v)))
+        return -1;
+    st->lost = v;
     if (st->run->trace) {
         if (!(v = realloc(st->steps, 6 * cap * sizeof *v)))
             return -1;
@@ -106,9 +110,19 @@ static void counts_now(const bw *st, vor_counts *c) {
     c->cavity_triangles += st->removed;
 }
 
-/* The INSERT step of vertex p: the first ncav entries of cav are its
- * cavity, whose triangles the search wrote to st->steps as it found
- * them; the star is in the slots cav[0..nb-1] now. */
+/* Writes the cavity's ncav triangles, cav[0..ncav-1], to st->steps as
+ * they were before the search marked them (their first vertex is in
+ * st->lost), before the star overwrites them. */
+VOR__COLD static void trace_cavity(bw *st, const uint32_t *cav, size_t ncav) {
+    const uint32_t *tri = st->m->tri;
+    for (size_t i = 0; i < ncav; i++) {
+        const uint32_t *v = tri + 3 * (size_t)cav[i];
+        put_sites(st, st->steps + 3 * i, st->lost[i], v[1], v[2]);
+    }
+}
+
+/* The INSERT step of vertex p: the cavity's ncav triangles are in
+ * st->steps (trace_cavity), the star is in the slots cav[0..nb-1] now. */
 VOR__COLD static void trace_insert(bw *st, uint32_t p, const uint32_t *cav,
                                    size_t ncav, size_t nb) {
     const uint32_t *tri = st->m->tri;
@@ -169,8 +183,9 @@ static vor_status insert(bw *st, uint32_t p) {
      * below adds two to cav; one test covers both arrays */
     size_t room = st->cap - 3, ncav = 1, nb = 0;
     cav[0] = t0;
-    if (tracing)
-        put_sites(st, st->steps, tri[3 * t0], tri[3 * t0 + 1], tri[3 * t0 + 2]);
+    uint32_t *lost = st->lost; /* for the trace, whose branch stays out of
+                                  the loop: a store is cheaper */
+    lost[0] = tri[3 * t0];
     tri[3 * t0] = MARK;
     uint32_t e0 = 3 * t0, e = e0;
     do {
@@ -179,6 +194,7 @@ static vor_status insert(bw *st, uint32_t p) {
                 return VOR_ENOMEM;
             cav = st->cav;
             bnd = st->bnd;
+            lost = st->lost;
             room = st->cap - 3;
         }
         uint32_t f = (uint32_t)adj[e];
@@ -205,8 +221,7 @@ static vor_status insert(bw *st, uint32_t p) {
             ghosts++;
         }
         if (in) {
-            if (tracing)
-                put_sites(st, st->steps + 3 * ncav, a, b, c);
+            lost[ncav] = tri[base];
             tri[base] = MARK;
             cav[ncav++] = base / 3;
             e = nf;
@@ -230,6 +245,8 @@ static vor_status insert(bw *st, uint32_t p) {
      * arrays: a disk of k triangles has k + 2 boundary edges. */
     assert(nb == ncav + 2);
     assert(m->n_tri + 2 <= m->cap_tri);
+    if (tracing)
+        trace_cavity(st, cav, ncav);
     cav[ncav++] = (uint32_t)m->n_tri;
     cav[ncav++] = (uint32_t)m->n_tri + 1;
     m->n_tri += 2;
@@ -270,6 +287,7 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
     if (grow(&st)) {
         free(st.cav);
         free(st.bnd);
+        free(st.lost);
         free(st.steps);
         return VOR_ENOMEM;
     }
@@ -277,6 +295,7 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
     if (r != VOR_OK) {
         free(st.cav);
         free(st.bnd);
+        free(st.lost);
         free(st.steps);
         return r;
     }
@@ -296,6 +315,7 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
         vor__trace_end(run);
     free(st.cav);
     free(st.bnd);
+    free(st.lost);
     free(st.steps);
     if (r != VOR_OK) {
         free(xy);
