@@ -1123,18 +1123,11 @@ VOR__COLD static vor_status trace_site(sweep *w, uint32_t i, uint32_t s,
     return VOR_OK;
 }
 
-/* Position of arc b on the beach line (before a circle event removes
- * it). */
-VOR__COLD static uint32_t trace_position(const sweep *w, uint32_t b) {
-    uint32_t k = 0;
-    for (uint32_t a = w->leftmost; a != b; a = ARC(a).next) k++;
-    return k;
-}
-
-/* Reports the CIRCLE step of the arcs of sorted sites a, b, c, where b's
- * arc was at position at; the beach line is the one after. */
-VOR__COLD static vor_status trace_circle(sweep *w, uint32_t a, uint32_t b,
-                                         uint32_t c, uint32_t at) {
+/* Reports the CIRCLE step of the arcs of sorted sites a, b, c; b's arc,
+ * just removed, was right of arc left (of site a); the beach line is the
+ * one after. */
+VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
+                                         uint32_t b, uint32_t c) {
     vor_step t;
     vor_counts now;
     vor_status st;
@@ -1144,8 +1137,7 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t a, uint32_t b,
     t.tri[1] = w->orig[b];
     t.tri[2] = w->orig[c];
     vor__trace_circle(w->s, t.tri[0], t.tri[1], t.tri[2], t.vertex, &t.y);
-    t.at = at;
-    (void)trace_beach(w, &t, NIL, &st);
+    t.at = trace_beach(w, &t, left, &st) + 1; /* where b was */
     if (st != VOR_OK) return st;
     w->run->trace(w->run->trace_ctx, &t);
     return VOR_OK;
@@ -1509,9 +1501,10 @@ static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *z = &w->arcs[x->next];
     if (ARC(x->prev).site == z->site) return 0;
     w->cnt.circle_tops++;
-    *lo = 0; /* -inf after the call: floating point did not settle it */
     int o = vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi);
-    if (*lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
+    /* collinear: only exact arithmetic says so (the callers count the
+     * converging triples whose top has no bound, as they read lo) */
+    if (o == 0) w->cnt.circle_top_exact++;
     return o > 0;
 }
 
@@ -1531,6 +1524,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     assert(ARC(b).ev == NO_EVENT);
     double lo, hi;
     if (!event_of(w, b, &lo, &hi)) return VOR_OK;
+    if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
@@ -1553,6 +1547,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
         drop_event(w, b);
         return VOR_OK;
     }
+    if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     rec_fill(w, r, b);
     q_update(w, (event){lo, hi, r});
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
@@ -1631,11 +1626,10 @@ static vor_status circle_event(sweep *w, uint32_t b) {
     edge_end(w, ARC(a).edge, h + 2);
     vor_status st;
     w->cnt.circle_events++;
-    uint32_t at = w->tracing ? trace_position(w, b) : 0;
     remove_arc(w, b);
     w->n_beach--;
     if (w->tracing &&
-        (st = trace_circle(w, ARC(a).site, ARC(b).site, ARC(c).site, at)) !=
+        (st = trace_circle(w, a, ARC(a).site, ARC(b).site, ARC(c).site)) !=
             VOR_OK)
         return st;
     arc_free(w, b);

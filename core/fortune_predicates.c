@@ -559,10 +559,6 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     *hi = t + err;
     return 1;
 undecided: {
-    /* the interval is set whatever the orientation: a caller may count
-     * the triples floating point could not settle */
-    *lo = -INFINITY;
-    *hi = INFINITY;
     int o = vor_orient2d(a, b, c);
     if (o <= 0) return o;
 }

@@ -120,12 +120,9 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
  * +1 an interval [*lo, *hi] that provably contains the y of the top of the
  * circle through a, b, c. When no useful bound can be proven (nearly
  * collinear sites, results outside the double range) the interval is
- * [-inf, +inf]; so is it, whatever the result, when floating point cannot
- * settle the orientation (exact orient2d decides then), while a result
- * below +1 found in floating point leaves *lo and *hi alone. The
- * orientation comes from the same determinant as the circle, so the common
- * case costs one evaluation. safe: as above, lets the filter skip its
- * per-call rescaling. Never fails. */
+ * [-inf, +inf]. The orientation comes from the same determinant as the
+ * circle, so the common case costs one evaluation. safe: as above, lets the
+ * filter skip its per-call rescaling. Never fails. */
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi);
 

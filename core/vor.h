@@ -224,8 +224,8 @@ void vor_diagram_free(vor_diagram *d);
       "triples of arcs tested for a circle event (orientation and the "     \
       "interval of the circle's top)")                                       \
     X(circle_top_exact, VOR_IN_FORTUNE,                                      \
-      "circle tests whose orientation or top floating point could not "     \
-      "settle")                                                              \
+      "circle tests that needed exact arithmetic: collinear triples, and "  \
+      "circle events whose top floating point could not bound")             \
     X(event_compares, VOR_IN_FORTUNE,                                        \
       "comparisons of two events, or of an event and the next site, in "    \
       "sweep order")                                                         \
