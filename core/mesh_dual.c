@@ -78,8 +78,9 @@
  * coordinates and order freed, the records, vid (8) and the result
  * without its coordinates (about 101), which come last when everything
  * else is freed: 157 bytes per site at the peak, plus what the allocator
- * keeps. The mesh's adjacency array becomes the vertex sites, and the
- * records' block the coordinates: at 10^6 sites each such array is a
+ * keeps. The mesh's adjacency array becomes the vertex sites, the
+ * coordinates in insertion order vid, and the records' block the
+ * coordinates: at 10^6 sites each such array is a
  * fresh mapping that the kernel faults in and zeroes on first touch (a
  * tenth of a cold run), and reusing pages already touched spares 56 of
  * the 281 bytes per site so faulted in. Small diagrams (up to about 120
@@ -803,8 +804,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
          * vertex sites */
         D.tri = NULL;
         D.adj = NULL;
-        free(lxy);
-        lxy = NULL;
+        D.lxy = NULL;
         if (!D.small) free(D.outl);
         D.outl = NULL;
         free(order);
@@ -814,12 +814,19 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
             goto done;
         m->adj = NULL;
         vor__mesh_clear(m);
-        /* vid is allocated afresh, not shrunk out of tri: a fresh block
-         * can take the pages lxy, outl and order just left where the
-         * allocator keeps them, while tri's would stay resident beside
-         * them (184 instead of 172 bytes per site at the peak, 10^6) */
-        D.vid = D.small ? D.small + 2 * n : xmalloc(T, sizeof *D.vid);
-        if (!D.vid) goto done;
+        /* vid is made of lxy's block (16 bytes a site, vid needs about
+         * 8), whose pages are touched already: not of tri's, which would
+         * stay resident beside it, nor a fresh block, whose pages the
+         * allocator may or may not take from those just freed (at 10^6
+         * sites that lottery moved the peak between 172 and 180 bytes a
+         * site with the input's layout) */
+        if (D.small) {
+            D.vid = D.small + 2 * n;
+            free(lxy);
+        } else if (!(D.vid = reuse(lxy, T, sizeof *D.vid))) {
+            goto done;
+        }
+        lxy = NULL;
         if (alloc_result(&D, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));

@@ -24,6 +24,21 @@ static const char *header(struct MHD_Connection *conn, const char *name) {
     return MHD_lookup_connection_value(conn, MHD_HEADER_KIND, name);
 }
 
+/* Sends the text built in b as a 200 of type ctype (b is consumed), or
+ * a 503 when building it ran out of memory. */
+static enum MHD_Result send_built(srv_req *q, struct MHD_Connection *conn,
+                                  api_buf *b, const char *ctype,
+                                  int gzip_ok) {
+    if (b->oom) {
+        api_buf_clear(b);
+        return srv__send_problem(q, conn, API_UNAVAILABLE, NULL,
+                                 SRV_RETRY_AFTER_S, "out of memory");
+    }
+    size_t len;
+    char *text = api_buf_take(b, &len);
+    return srv__send_text(q, conn, 200, ctype, text, len, gzip_ok);
+}
+
 static enum MHD_Result handle_asset(srv_req *q, struct MHD_Connection *conn,
                                     const char *path) {
     srv_server *s = q->srv;
@@ -105,17 +120,8 @@ static enum MHD_Result handle_metrics(srv_req *q, struct MHD_Connection *conn) {
     api_buf b;
     api_buf_init(&b);
     srv_metrics_render(s->metrics, &g, &b);
-    if (b.oom) {
-        api_buf_clear(&b);
-        return srv__send_problem(q, conn, API_UNAVAILABLE, NULL,
-                                 SRV_RETRY_AFTER_S,
-                                 "out of memory");
-    }
-    size_t len;
-    char *text = api_buf_take(&b, &len);
-    return srv__send_text(q, conn, 200,
-                         "text/plain; version=0.0.4; charset=utf-8",
-                          text, len, srv__client_takes_gzip(q));
+    return send_built(q, conn, &b, "text/plain; version=0.0.4; charset=utf-8",
+                      srv__client_takes_gzip(q));
 }
 
 static enum MHD_Result handle_json_status(srv_req *q,
@@ -223,16 +229,7 @@ static enum MHD_Result handle_problem_type(srv_req *q,
                    api_code_title((api_code)code),
                    api_code_title((api_code)code),
                    api_code_http((api_code)code), help, slug);
-    if (b.oom) {
-        api_buf_clear(&b);
-        return srv__send_problem(q, conn, API_UNAVAILABLE, NULL,
-                                 SRV_RETRY_AFTER_S,
-                                 "out of memory");
-    }
-    size_t len;
-    char *text = api_buf_take(&b, &len);
-    return srv__send_text(q, conn, 200, "text/html; charset=utf-8", text,
-                         len, 0);
+    return send_built(q, conn, &b, "text/html; charset=utf-8", 0);
 }
 
 enum MHD_Result srv__handle_static(srv_req *q, struct MHD_Connection *conn) {

@@ -107,6 +107,18 @@ static void timing_add(timing_buf *t, const char *name, double ms) {
     t->p[t->len] = '\0';
 }
 
+/* out's Server-Timing for the phases done before the answer is written:
+ * queue, parse, prepare, compute, clip; returns the buffer for more. */
+static timing_buf timing_phases(srv_reply *out, const api_timings *t) {
+    timing_buf tb = timing_start(out->timing, sizeof out->timing);
+    timing_add(&tb, "queue", t->queue_ms);
+    timing_add(&tb, "parse", t->parse_ms);
+    timing_add(&tb, "prepare", t->prepare_ms);
+    timing_add(&tb, "compute", t->compute_ms);
+    timing_add(&tb, "clip", t->clip_ms);
+    return tb;
+}
+
 /* What a computation reads: the request as received, borrowed. */
 typedef struct job_input {
     int compare;
@@ -239,13 +251,7 @@ static void compute_answer(srv_server *s, api_request *r, int compare,
                     out->stream = st;
                     out->status = 200;
                     out->ctype = api_format_mime(fmt);
-                    timing_buf tb =
-                        timing_start(out->timing, sizeof out->timing);
-                    timing_add(&tb, "queue", t.queue_ms);
-                    timing_add(&tb, "parse", t.parse_ms);
-                    timing_add(&tb, "prepare", t.prepare_ms);
-                    timing_add(&tb, "compute", t.compute_ms);
-                    timing_add(&tb, "clip", t.clip_ms);
+                    timing_phases(out, &t);
                 }
             } else if (!job_stopped(base)) {
                 api_timings t = res.t;
@@ -257,13 +263,7 @@ static void compute_answer(srv_server *s, api_request *r, int compare,
                     out->status = 200;
                     out->ctype = api_format_mime(r->format);
                     out->body = api_buf_take(&b, &out->len);
-                    timing_buf tb =
-                        timing_start(out->timing, sizeof out->timing);
-                    timing_add(&tb, "queue", t.queue_ms);
-                    timing_add(&tb, "parse", t.parse_ms);
-                    timing_add(&tb, "prepare", t.prepare_ms);
-                    timing_add(&tb, "compute", t.compute_ms);
-                    timing_add(&tb, "clip", t.clip_ms);
+                    timing_buf tb = timing_phases(out, &t);
                     timing_add(&tb, "serialize", t.serialize_ms);
                     timing_add(&tb, "total", t.total_ms);
                 }

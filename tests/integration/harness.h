@@ -223,6 +223,23 @@ IT_UNUSED static int it_cleanup(it_daemon *d) {
     return rc;
 }
 
+/* The group fixture of most test files: libcurl set up and one daemon
+ * started with args (NULL-terminated, or NULL), which it_group_stop stops
+ * with SIGTERM; the group fails unless the daemon exited 0. */
+IT_UNUSED static int it_group_start(it_daemon *d, const char *const *args) {
+    curl_global_init(CURL_GLOBAL_ALL);
+    return it_start(d, args);
+}
+
+IT_UNUSED static int it_group_stop(it_daemon *d) {
+    int rc = it_stop(d, SIGTERM);
+    if (rc != 0) fprintf(stderr, "daemon exit status %d\n", rc);
+    d->pid = 0;
+    it_cleanup(d);
+    curl_global_cleanup();
+    return rc == 0 ? 0 : -1;
+}
+
 IT_UNUSED static char *it_log(const it_daemon *d) { return it_read_file(d->log, NULL); }
 
 /* Whether the log comes to hold `text`: the daemon buffers access lines

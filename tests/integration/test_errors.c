@@ -16,18 +16,13 @@ static it_daemon d;
 
 static int setup(void **state) {
     (void)state;
-    curl_global_init(CURL_GLOBAL_ALL);
     const char *args[] = {"--max-body", "64K", "--max-points", "1000", NULL};
-    return it_start(&d, args);
+    return it_group_start(&d, args);
 }
 
 static int teardown(void **state) {
     (void)state;
-    int rc = it_stop(&d, SIGTERM);
-    d.pid = 0;
-    it_cleanup(&d);
-    curl_global_cleanup();
-    return rc == 0 ? 0 : -1;
+    return it_group_stop(&d);
 }
 
 typedef struct expect {

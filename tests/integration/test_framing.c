@@ -27,19 +27,14 @@ static it_daemon d;
 
 static int setup(void **state) {
     (void)state;
-    curl_global_init(CURL_GLOBAL_ALL);
     const char *args[] = {"--max-body", "2M", "--connection-timeout", "20",
                           NULL};
-    return it_start(&d, args);
+    return it_group_start(&d, args);
 }
 
 static int teardown(void **state) {
     (void)state;
-    int rc = it_stop(&d, SIGTERM);
-    d.pid = 0;
-    it_cleanup(&d);
-    curl_global_cleanup();
-    return rc == 0 ? 0 : -1;
+    return it_group_stop(&d);
 }
 
 /* Sends req (len bytes) on a new connection, reads until the server

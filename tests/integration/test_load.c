@@ -23,19 +23,14 @@ static const char square_json[] =
 
 static int setup(void **state) {
     (void)state;
-    curl_global_init(CURL_GLOBAL_ALL);
     const char *args[] = {"--queue", "128", "--connection-timeout", "2",
                           "--max-body", "1M", NULL};
-    return it_start(&d, args);
+    return it_group_start(&d, args);
 }
 
 static int teardown(void **state) {
     (void)state;
-    int rc = it_stop(&d, SIGTERM);
-    d.pid = 0;
-    it_cleanup(&d);
-    curl_global_cleanup();
-    return rc == 0 ? 0 : -1;
+    return it_group_stop(&d);
 }
 
 /* The square's diagram is still right. */
