@@ -21,18 +21,12 @@ static it_daemon d;
 
 static int setup(void **state) {
     (void)state;
-    curl_global_init(CURL_GLOBAL_ALL);
-    return it_start(&d, NULL);
+    return it_group_start(&d, NULL);
 }
 
 static int teardown(void **state) {
     (void)state;
-    int rc = it_stop(&d, SIGTERM);
-    if (rc != 0) fprintf(stderr, "daemon exit status %d\n", rc);
-    d.pid = 0;
-    it_cleanup(&d);
-    curl_global_cleanup();
-    return rc == 0 ? 0 : -1;
+    return it_group_stop(&d);
 }
 
 static void post(const char *path, const char *body, it_resp *r,
