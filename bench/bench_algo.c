@@ -169,6 +169,7 @@ typedef struct result {
     int runs;
     size_t n, distinct, vertices, edges, triangles;
     double median_ms, min_ms, first_ms, peak_bytes;
+    vor_counts counts; /* of the first run */
     char msg[160];
 } result;
 
@@ -191,8 +192,10 @@ static void time_compute(const vor_sites *sites, vor_algorithm algo,
     r->peak_bytes = -1;
     if (measure_mem)
         base = bu_peak_reset();
+    /* the counts cost the same whether read or not (vor_compute_ex) */
+    vor_options opt = {.counts = &r->counts};
     uint64_t t0 = bu_now_ns();
-    vor_status st = vor_compute(sites, algo, &d);
+    vor_status st = vor_compute_ex(sites, algo, &opt, &d);
     uint64_t t1 = bu_now_ns();
     if (measure_mem && st == VOR_OK)
         r->peak_bytes = bu_peak_bytes(base);
@@ -635,10 +638,16 @@ static int cmd_ours(const opts *o) {
     if (st == VOR_OK && o->tris && bu_write_file(o->tris, tri, nt * 12) != 0)
         st = VOR_EINVAL;
     printf("RESULT name=%s n=%zu ms=%.3f min_ms=%.3f runs=%d peak_bpp=%.1f "
-           "vertices=%zu triangles=%zu status=%s\n",
+           "vertices=%zu triangles=%zu sites=%zu",
            o->algo, n, r.median_ms, r.min_ms, r.runs,
            r.peak_bytes >= 0 ? r.peak_bytes / (double)n : -1.0, r.vertices,
-           nt, st == VOR_OK ? "ok" : vor_status_name(st));
+           nt, sites->n);
+    /* the operation counts of the first run, those of this algorithm */
+    for (size_t i = 0; i < VOR_COUNT_FIELDS; i++)
+        if (vor_count_algorithms(i) & (1u << algo))
+            printf(" c_%s=%llu", vor_count_name(i),
+                   (unsigned long long)vor_count_value(&r.counts, i));
+    printf(" status=%s\n", st == VOR_OK ? "ok" : vor_status_name(st));
     free(tri);
     vor_diagram_free(d);
     vor_sites_free(sites);
