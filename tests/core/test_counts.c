@@ -214,6 +214,42 @@ static void test_bounded_per_site(void **state) {
     assert_true(flips[2] < 1.1 * flips[0]);
 }
 
+/* Point location must not walk far on any input: a fixed grid over the
+ * bounding box once left the sites of a crowded cell in input order, and
+ * on log-normal or outlier sets the walk grew with sqrt(n). On every
+ * distribution the service offers, at two sizes, Bowyer-Watson's and
+ * flip's walks stay a few steps per site and do not grow tenfold. */
+static void test_walk_every_distribution(void **state) {
+    (void)state;
+    static const char *const dists[] = {"uniform", "gaussian", "pixels",
+                                        "grid", "circle", "clustered",
+                                        "lognormal", "outlier", "decades"};
+    const uint64_t seed = 11;
+    print_message("walk steps per site, seed %llu\n", (unsigned long long)seed);
+    for (size_t k = 0; k < sizeof dists / sizeof dists[0]; k++) {
+        double walk[2][2];
+        const size_t ns[2] = {2000, 20000};
+        for (int j = 0; j < 2; j++) {
+            double *xy = vt_distribution(dists[k], ns[j], seed);
+            assert_non_null(xy);
+            vor_sites *s = sites_of(xy, ns[j]);
+            vor_counts b = counts_of(s, VOR_BOWYER_WATSON);
+            vor_counts l = counts_of(s, VOR_FLIP);
+            walk[j][0] = (double)b.walk_steps / (double)s->n;
+            walk[j][1] = (double)l.walk_steps / (double)s->n;
+            vor_sites_free(s);
+            free(xy);
+        }
+        print_message("  %-10s %.2f -> %.2f (bowyer-watson), %.2f -> %.2f "
+                      "(flip)\n", dists[k], walk[0][0], walk[1][0],
+                      walk[0][1], walk[1][1]);
+        for (int a = 0; a < 2; a++) {
+            assert_true(walk[1][a] < 8);
+            assert_true(walk[1][a] < 1.5 * walk[0][a] + 1);
+        }
+    }
+}
+
 static void test_exact_and_refined(void **state) {
     (void)state;
     vt_set set;
@@ -279,6 +315,7 @@ int main(void) {
         cmocka_unit_test(test_deterministic),
         cmocka_unit_test(test_identities),
         cmocka_unit_test(test_bounded_per_site),
+        cmocka_unit_test(test_walk_every_distribution),
         cmocka_unit_test(test_exact_and_refined),
         cmocka_unit_test(test_degenerate_and_errors),
     };
