@@ -20,7 +20,7 @@ import {
     fmtMs, fmtInt, fmtBytes, roundTo, fmtCoord,
 } from './util.js';
 import {
-    ServiceError, sendKnown, buildRequest, adapt, learn, isAbort, parseServerTiming, timingOf,
+    ServiceError, send, buildRequest, isAbort, parseServerTiming, timingOf,
 } from './api.js';
 import { fromJson, unreadable, fetchDiagram } from './decode.js';
 import { prepare } from './geometry.js';
@@ -134,24 +134,14 @@ export async function compute(opts) {
         const t0 = performance.now();
         let D, G = null, serverTiming;
         if (binary) {
-            let out;
-            for (let attempt = 0; ; attempt++) {
-                const [src, o] = adapt(requestSource(), opt);
-                try {
-                    out = await fetchDiagram(buildRequest('voronoi', Object.assign({}, o, { signal: undefined }), src),
-                        abort.signal, true, CELL_COLOURS, prepare);
-                    break;
-                } catch (e) {
-                    if (attempt < 2 && learn(e, src, o)) continue;
-                    throw e;
-                }
-            }
+            const out = await fetchDiagram(buildRequest('voronoi', Object.assign({}, opt, { signal: undefined }), requestSource()),
+                abort.signal, true, CELL_COLOURS, prepare);
             D = out.D;
             G = out.G;
             serverTiming = out.serverTiming;
             pub.decodedIn = out.where;
         } else {
-            const r = await sendKnown('voronoi', opt, requestSource());
+            const r = await send('voronoi', opt, requestSource());
             let res;
             try {
                 res = JSON.parse(r.text);
@@ -418,7 +408,7 @@ async function download(format) {
         $('show-delaunay').checked ? ['triangles'] : [], $('show-clip').checked ? ['clipped'] : []) : null;
     setBusy(true, 'Preparing ' + format.toUpperCase() + '…');
     try {
-        const r = await sendKnown('voronoi', {
+        const r = await send('voronoi', {
             algorithm: selectedAlgorithm(), bounds: clipBounds(), include: include, format: format, blob: true,
         }, requestSource());
         const a = document.createElement('a');

@@ -8,9 +8,9 @@
  * clicks points in, pans and zooms, changes N and seed (recomputed, or
  * marked out of date), compares the three algorithms (an answer shaped as
  * the contract says, with repeat, spread, runs and counts, and the
- * service's own, with or without repeat), runs a sweep of two
- * distributions and exports it as CSV, PNG and SVG, downloads the
- * diagram, lays the page out on a phone, draws 10^5 points and then 10^6
+ * service's own), runs a sweep of two distributions and exports it as
+ * CSV, PNG and SVG, downloads the diagram, lays the page out on a phone,
+ * draws 10^5 points and then 10^6
  * with every layer on while typing and dragging (the long tasks the
  * browser reports are printed, never judged: the test asserts that input
  * was handled while the frame was being drawn). Each step asserts on what
@@ -636,14 +636,9 @@ async function main() {
             await page.click('#generate');
             await waitComputed(page, before);
             await page.selectOption('#repeat', '3');
-            allowHttpErrors++; /* a service without repeat answers 400 once */
-            try {
-                before = await state(page);
-                await page.click('#compare');
-                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            before = await state(page);
+            await page.click('#compare');
+            await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
             const c = await page.evaluate(() => window.voronoid.lastCompare);
             assert(c, 'no compare result: ' + JSON.stringify((await state(page)).lastError));
             const rows = await page.locator('#compare-table tbody tr').count();
@@ -656,23 +651,18 @@ async function main() {
             const agree = await text(page, '#agree');
             assert(/identical/.test(agree), 'agreement line "' + agree + '"');
             const note = await text(page, '#compare-note');
-            if (c.repeatDropped) {
-                /* an older service: one run each, and the page says so */
-                assert(/does not take repeat/.test(note), 'note: ' + note);
-                console.log('     this service does not take repeat: one run per algorithm');
-            } else {
-                assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
-                for (const r of c.rows) {
-                    const t = r.spread && r.spread.compute_ms;
-                    assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
-                    assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
-                }
-                assert(/median of 3 runs/.test(note), 'note: ' + note);
-                /* three runs of real timings: a spread under each median (or
-                 * none where all three took the same time) */
-                const spreads = await page.locator('#compare-table .spread').allInnerTexts();
-                assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
+            assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
+            for (const r of c.rows) {
+                const t = r.spread && r.spread.compute_ms;
+                assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
+                assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
+                assert(r.counts && Object.keys(r.counts).length > 0, r.algorithm + ': no counts');
             }
+            assert(/median of 3 runs/.test(note), 'note: ' + note);
+            /* three runs of real timings: a spread under each median (or
+             * none where all three took the same time) */
+            const spreads = await page.locator('#compare-table .spread').allInnerTexts();
+            assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
             /* a time cell: the median, and under it (with repeats) the
              * spread */
             const cells = await page.locator('#compare-table tbody td').allInnerTexts();
@@ -704,13 +694,8 @@ async function main() {
             await page.check('input[name=sweep-dist][value=gaussian]');
             await page.fill('#sweep-sizes', '500, 1000, 2000, 5000, 10000, 20000');
             const before = await state(page);
-            allowHttpErrors++;
-            try {
-                await page.click('#sweep');
-                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            await page.click('#sweep');
+            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
             const sw = await page.evaluate(() => window.voronoid.lastSweep);
             assert(sw && sw.done, 'the sweep did not finish: ' + JSON.stringify((await state(page)).lastError));
             /* sizes in order, the two distributions interleaved at each */
@@ -720,7 +705,7 @@ async function main() {
                 for (const a of ALGORITHMS) {
                     const t = r.times[a];
                     assert(t && t.min <= t.median && t.median <= t.max, r.distribution + ' ' + r.n + ' ' + a + ': ' + JSON.stringify(t));
-                    if (!sw.repeatDropped) assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
+                    assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
                 }
                 assert(r.agree, r.distribution + ' N=' + r.n + ': the algorithms disagree');
             }
@@ -760,7 +745,7 @@ async function main() {
                 const t = row.times[f.algorithm];
                 assert(Number(f.median_ms) === t.median && Number(f.min_ms) === t.min && Number(f.max_ms) === t.max,
                     'CSV line ' + line + ' against ' + JSON.stringify(t));
-                if (!sw.repeatDropped) assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
+                assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
                 assert(f.status === 'ok' && f.agree === 'yes' && f.seed === String(sw.seed), 'CSV line ' + line);
             }
             const png = await download('sweep-png');
@@ -778,13 +763,8 @@ async function main() {
             await page.uncheck('input[name=sweep-dist][value=gaussian]');
             await page.fill('#sweep-sizes', '1000, 2000');
             const b2 = await state(page);
-            allowHttpErrors++;
-            try {
-                await page.click('#sweep');
-                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            await page.click('#sweep');
+            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
             const kept = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
             assert(kept.sweeps === 2 && kept.series === 9, 'after a second sweep: ' + JSON.stringify(kept));
             assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 14, 'both sweeps in the table');
