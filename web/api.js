@@ -53,7 +53,8 @@ export function problemFrom(resp, text) {
 /* Builds {url, init} for POST path with the source src and the options
  * opt: algorithm, bounds (four numbers or null), include (array of part
  * names), format (json, geojson, svg, binary), repeat (compare: runs per
- * algorithm, null for the service's default), signal. A JSON source
+ * algorithm, null for the service's default), trace (voronoi: true adds
+ * the algorithm's steps), signal. A JSON source
  * carries its options in the body; raw files carry them in the query
  * string, since their body is the file itself. */
 export function buildRequest(path, opt, src) {
@@ -69,6 +70,7 @@ export function buildRequest(path, opt, src) {
         if (opt.include) params.set('include', opt.include.join(','));
         if (bounds) params.set('bounds', bounds.join(','));
         if (repeat != null) params.set('repeat', String(repeat));
+        if (opt.trace) params.set('trace', 'true');
         init.headers['Content-Type'] = src.type;
         init.body = src.data;
     } else {
@@ -82,6 +84,8 @@ export function buildRequest(path, opt, src) {
         if (bounds) body.bounds = bounds;
         if (repeat != null) body.repeat = repeat;
         else delete body.repeat;
+        if (opt.trace) body.trace = true;
+        else delete body.trace;
         init.headers['Content-Type'] = 'application/json';
         init.body = JSON.stringify(body);
     }
