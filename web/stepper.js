@@ -261,6 +261,7 @@ function leave(recompute) {
     $('view').classList.remove('replaying');
     setOverlay(null);
     if (recompute) compute();
+    else drawNow();
 }
 
 /* ---- frames ---------------------------------------------------------------- */
@@ -407,6 +408,8 @@ export function wireStepper() {
         else enter();
     });
     $('rp-close').addEventListener('click', () => leave(true));
+    /* no points, nothing to replay (the controls have cleared the diagram) */
+    $('clear-points').addEventListener('click', () => { if (rp.active) leave(false); });
     $('rp-first').addEventListener('click', () => { pause(); show(0); });
     $('rp-back').addEventListener('click', () => step(-1));
     $('rp-fwd').addEventListener('click', () => step(1));

@@ -10,16 +10,20 @@
  * the contract says, with repeat, spread, runs and counts, and the
  * service's own), runs a sweep of two distributions and exports it as
  * CSV, PNG and SVG, downloads the diagram, lays the page out on a phone,
- * draws 10^5 points and then 10^6
- * with every layer on while typing and dragging (the long tasks the
- * browser reports are printed, never judged: the test asserts that input
- * was handled while the frame was being drawn). Each step asserts on what
+ * draws 10^5 points and then 10^6 with every layer on while typing and
+ * dragging (the long tasks the browser reports are printed, never judged:
+ * the test asserts that input was handled while the frame was being
+ * drawn), and steps through each algorithm's trace of a degenerate set to
+ * the end (the last frame's edges and vertices against a normal answer;
+ * the frame counter and counts against the trace, stepping back and
+ * forth), on a phone too, and through 2,000 points. Each step asserts on what
  * the page shows (text, table rows, canvas pixels) and on the state it
  * exposes in window.voronoid; any console error, uncaught page error or
  * failed request fails the run. The page's own files are served with the
  * service's Content-Security-Policy (added by the test where the daemon
- * does not send it), so a policy violation fails the run too. Screenshots go to VOR_BROWSER_OUT
- * (default $B/browser). The daemon is stopped at the end, also on failure.
+ * does not send it), so a policy violation fails the run too. Screenshots
+ * go to VOR_BROWSER_OUT (default $B/browser). The daemon is stopped at the
+ * end, also on failure.
  *
  * Environment: VOR_DAEMON (daemon binary), VOR_WEB_DIR (serve the page from
  * this directory with --web-dir instead of the embedded copy), VOR_CHROMIUM
