@@ -53,7 +53,8 @@ export function problemFrom(resp, text) {
 /* Builds {url, init} for POST path with the source src and the options
  * opt: algorithm, bounds (four numbers or null), include (array of part
  * names), format (json, geojson, svg, binary), repeat (compare: runs per
- * algorithm, null for the service's default), signal. A JSON source
+ * algorithm, null for the service's default), trace (voronoi: true adds
+ * the algorithm's steps), signal. A JSON source
  * carries its options in the body; raw files carry them in the query
  * string, since their body is the file itself. */
 export function buildRequest(path, opt, src) {
@@ -69,6 +70,7 @@ export function buildRequest(path, opt, src) {
         if (opt.include) params.set('include', opt.include.join(','));
         if (bounds) params.set('bounds', bounds.join(','));
         if (repeat != null) params.set('repeat', String(repeat));
+        if (opt.trace) params.set('trace', 'true');
         init.headers['Content-Type'] = src.type;
         init.body = src.data;
     } else {
@@ -82,6 +84,8 @@ export function buildRequest(path, opt, src) {
         if (bounds) body.bounds = bounds;
         if (repeat != null) body.repeat = repeat;
         else delete body.repeat;
+        if (opt.trace) body.trace = true;
+        else delete body.trace;
         init.headers['Content-Type'] = 'application/json';
         init.body = JSON.stringify(body);
     }
@@ -119,57 +123,6 @@ export async function send(path, opt, src) {
     return out;
 }
 
-/* ---- what this service knows ----------------------------------------
- * The page is written against the newest contract; an older service may
- * not know the `repeat` option of compare (it answers 400 naming it) or
- * the distribution name `pixels` (its older name is `random`: a 422 that
- * lists it). The page learns that from the first such answer, retries
- * once in the older terms, and sends those from then on. */
-export const known = { repeat: true, pixels: true };
-
-/* The source and options as this service takes them. */
-export function adapt(src, opt) {
-    if (!known.pixels && src.kind === 'gen' && src.generate.distribution === 'pixels') {
-        src = Object.assign({}, src, { generate: Object.assign({}, src.generate, { distribution: 'random' }) });
-    }
-    if (!known.repeat && opt.repeat != null) opt = Object.assign({}, opt, { repeat: null, repeatDropped: true });
-    return [src, opt];
-}
-
-/* Whether the error e, answered to src and opt, taught the page something
- * a retry can use (see known). */
-export function learn(e, src, opt) {
-    const p = e && e.problem;
-    if (!p) return false;
-    if (p.status === 400 && opt.repeat != null && known.repeat &&
-        (p.pointer === '/repeat' || /\brepeat\b/.test(p.detail || ''))) {
-        known.repeat = false;
-        return true;
-    }
-    if (p.status === 422 && known.pixels && src.kind === 'gen' && src.generate.distribution === 'pixels' &&
-        /distribution/.test(p.pointer + ' ' + p.detail) && /\brandom\b/.test(p.detail || '')) {
-        known.pixels = false;
-        return true;
-    }
-    return false;
-}
-
-/* send() in the terms this service takes, retried once per lesson. The
- * answer says repeatDropped when the repeat option had to go. */
-export async function sendKnown(path, opt, src) {
-    for (let attempt = 0; ; attempt++) {
-        const [s, o] = adapt(src, opt);
-        try {
-            const r = await send(path, o, s);
-            r.repeatDropped = !!o.repeatDropped;
-            return r;
-        } catch (e) {
-            if (attempt < 2 && learn(e, s, o)) continue;
-            throw e;
-        }
-    }
-}
-
 /* "queue;dur=0.01, parse;dur=1.2;desc=..." -> [{name, dur, desc}] */
 export function parseServerTiming(h) {
     if (!h) return [];
@@ -199,35 +152,28 @@ export function timingOf(res, name) {
 
 const ALGORITHM_ORDER = ['fortune', 'bowyer-watson', 'flip'];
 
-/* Reads the compare answer (openapi.yaml, Comparison), also in the
- * arrangements older codecs used ({results: [...]}, {algorithms: {name:
- * {...}}}). Returns {agree, disagreement, n_sites, repeat, rows: [{
- * algorithm, status, detail, compute_ms, total_ms, vertices, edges,
- * spread: {phase: {median, min, max}} | null, runs_ms: [...] | null,
- * counts: {name: integer} | null}]}. compute_ms is the median over the
- * runs when the service repeated them. */
+/* Reads the compare answer (openapi.yaml, Comparison). Returns {agree,
+ * disagreement, n_sites, repeat, rows: [{algorithm, status, detail,
+ * compute_ms, total_ms, vertices, edges, spread: {phase: {median, min,
+ * max}} | null, runs_ms: [...] | null, counts: {name: integer} | null}]},
+ * the rows in the page's order of algorithms. compute_ms is the median
+ * over the runs. */
 export function normaliseCompare(j) {
-    let list = j.results || j.algorithms || j.runs || [];
-    if (!Array.isArray(list)) {
-        list = Object.keys(list).map((name) => Object.assign({ algorithm: name }, list[name]));
-    }
-    const num = (...vals) => vals.find((v) => typeof v === 'number');
+    const list = Array.isArray(j.algorithms) ? j.algorithms : [];
     const rows = list.map((r) => {
-        const t = r.timings || r;
-        const counts = r.counts && typeof r.counts === 'object' ? r.counts : null;
-        const spread = r.spread && typeof r.spread === 'object' ? r.spread : null;
+        const t = r.timings || {};
         const runs = Array.isArray(r.runs_ms) ? r.runs_ms.filter((v) => typeof v === 'number') : null;
         return {
-            algorithm: r.algorithm || r.name,
+            algorithm: r.algorithm,
             status: r.status || 'ok',
             detail: r.detail || '',
-            compute_ms: num(t.compute_ms, t.compute),
-            total_ms: num(t.total_ms, t.total),
-            vertices: num(r.n_vertices, r.vertices, counts && counts.vertices),
-            edges: num(r.n_edges, r.edges, counts && counts.edges),
-            spread: spread,
+            compute_ms: t.compute_ms,
+            total_ms: t.total_ms,
+            vertices: r.n_vertices,
+            edges: r.n_edges,
+            spread: r.spread && typeof r.spread === 'object' ? r.spread : null,
             runs_ms: runs && runs.length ? runs : null,
-            counts: counts,
+            counts: r.counts && typeof r.counts === 'object' ? r.counts : null,
         };
     });
     rows.sort((a, b) => ALGORITHM_ORDER.indexOf(a.algorithm) - ALGORITHM_ORDER.indexOf(b.algorithm));
@@ -260,12 +206,10 @@ export function computeSpread(row) {
     return null;
 }
 
-/* One POST compare of src with opt (algorithm, bounds, repeat, signal),
- * in the terms this service takes (see known); resolves to the
- * normalised answer with the raw one in .raw and .repeatDropped when the
- * service did not take the repeat option. */
+/* One POST compare of src with opt (algorithm, bounds, repeat, signal);
+ * resolves to the normalised answer with the raw one in .raw. */
 export async function compareOnce(src, opt) {
-    const r = await sendKnown('compare', opt, src);
+    const r = await send('compare', opt, src);
     let j;
     try {
         j = JSON.parse(r.text);
@@ -275,6 +219,5 @@ export async function compareOnce(src, opt) {
     const c = normaliseCompare(j);
     c.raw = j;
     c.roundtrip_ms = r.ms;
-    c.repeatDropped = r.repeatDropped;
     return c;
 }

@@ -8,8 +8,7 @@
  * compute time with the fastest and slowest run and the diagram's size,
  * a bar chart (median bar, min-max whisker, a dot per run) and, when the
  * service counts its operations, a table of every count it returns, per
- * algorithm and per site, whatever their names. A service that does not
- * take repeat gets one run each, and the view says so.
+ * algorithm and per site, whatever their names.
  *
  * Invariants: one compare at a time (jobs.compare); pub.lastCompare is
  * the answer shown.
@@ -27,9 +26,8 @@ export function repeatChoice() {
     return v === '' ? null : Number(v);
 }
 
-/* "median of 5 runs each", "one run each (this service ...)". */
+/* "median of 5 runs per algorithm ...", "one run per algorithm". */
 export function runsNote(c) {
-    if (c.repeatDropped) return 'one run per algorithm: this service does not take repeat';
     const k = c.repeat || 1;
     return k > 1 ? 'median of ' + k + ' runs per algorithm, run in rotating order; bars from the fastest to the slowest run'
         : 'one run per algorithm';

@@ -20,7 +20,7 @@ import {
     fmtMs, fmtInt, fmtBytes, roundTo, fmtCoord,
 } from './util.js';
 import {
-    ServiceError, sendKnown, buildRequest, adapt, learn, isAbort, parseServerTiming, timingOf,
+    ServiceError, send, buildRequest, isAbort, parseServerTiming, timingOf,
 } from './api.js';
 import { fromJson, unreadable, fetchDiagram } from './decode.js';
 import { prepare } from './geometry.js';
@@ -74,7 +74,7 @@ export function clipBounds() {
     return parts;
 }
 
-function syncLayers() {
+export function syncLayers() {
     layers.sites = $('show-sites').checked;
     layers.edges = $('show-edges').checked;
     layers.delaunay = $('show-delaunay').checked;
@@ -101,7 +101,7 @@ function showAutoBox(D) {
 
 /* On a phone the diagram sits above the controls: when the user asks for
  * a diagram from down there, it is brought into view. */
-function revealDiagram() {
+export function revealDiagram() {
     if (!window.matchMedia('(max-width: 720px)').matches) return;
     const top = $('view').getBoundingClientRect().top;
     if (top >= 0 && top < window.innerHeight / 3) return;
@@ -109,12 +109,17 @@ function revealDiagram() {
     $('view').scrollIntoView({ block: 'start', behavior: smooth ? 'smooth' : 'auto' });
 }
 
+/* Another mode may take over what Compute does (the step-through
+ * replay, stepper.js): hooks.compute(opts) returns true when it did. */
+export const hooks = { compute: null };
+
 /* Computes the diagram of the current source with the form's options.
  * opts.reveal: the user asked (Compute, Generate), so on a phone the
  * diagram is scrolled into view. */
 export async function compute(opts) {
     if (opts && opts.reveal) revealDiagram();
     clearTimeout(genTimer);
+    if (hooks.compute && hooks.compute(opts || {})) return;
     clearError();
     syncLayers();
     const asked = describeSource();
@@ -134,24 +139,14 @@ export async function compute(opts) {
         const t0 = performance.now();
         let D, G = null, serverTiming;
         if (binary) {
-            let out;
-            for (let attempt = 0; ; attempt++) {
-                const [src, o] = adapt(requestSource(), opt);
-                try {
-                    out = await fetchDiagram(buildRequest('voronoi', Object.assign({}, o, { signal: undefined }), src),
-                        abort.signal, true, CELL_COLOURS, prepare);
-                    break;
-                } catch (e) {
-                    if (attempt < 2 && learn(e, src, o)) continue;
-                    throw e;
-                }
-            }
+            const out = await fetchDiagram(buildRequest('voronoi', Object.assign({}, opt, { signal: undefined }), requestSource()),
+                abort.signal, true, CELL_COLOURS, prepare);
             D = out.D;
             G = out.G;
             serverTiming = out.serverTiming;
             pub.decodedIn = out.where;
         } else {
-            const r = await sendKnown('voronoi', opt, requestSource());
+            const r = await send('voronoi', opt, requestSource());
             let res;
             try {
                 res = JSON.parse(r.text);
@@ -193,7 +188,7 @@ export async function compute(opts) {
 
 /* How many points a source will send, as far as the page can tell
  * before asking (a raw file is estimated from its size). */
-function expectedPoints(src) {
+export function expectedPoints(src) {
     if (src.kind === 'generate') return genParams().n;
     if (src.kind === 'gen') return src.generate.n;
     if (src.kind === 'points') return src.points.length;
@@ -205,7 +200,7 @@ function expectedPoints(src) {
     return src.type === 'application/octet-stream' ? src.size / 16 : src.size / 12;
 }
 
-function showTimings(res, roundtrip, drawMs, phases) {
+export function showTimings(res, roundtrip, drawMs, phases) {
     const server = timingOf(res, 'compute');
     $('t-compute').textContent = fmtMs(server);
     $('t-roundtrip').textContent = fmtMs(roundtrip);
@@ -292,7 +287,7 @@ function generatorChanged() {
 
 /* Marks the diagram as out of date (or not), saying what it shows and
  * what Compute would draw; text, when given, is what it shows now. */
-function markStale(on, text) {
+export function markStale(on, text) {
     if (text !== undefined) shown = text;
     on = on && shown !== null;
     pub.stale = on;
@@ -304,7 +299,7 @@ function markStale(on, text) {
     }
 }
 
-function describeSource() {
+export function describeSource() {
     let text;
     if (source.kind === 'generate') {
         const g = genParams();
@@ -418,7 +413,7 @@ async function download(format) {
         $('show-delaunay').checked ? ['triangles'] : [], $('show-clip').checked ? ['clipped'] : []) : null;
     setBusy(true, 'Preparing ' + format.toUpperCase() + '…');
     try {
-        const r = await sendKnown('voronoi', {
+        const r = await send('voronoi', {
             algorithm: selectedAlgorithm(), bounds: clipBounds(), include: include, format: format, blob: true,
         }, requestSource());
         const a = document.createElement('a');

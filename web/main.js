@@ -2,7 +2,8 @@
  *
  * What it does: wires the panels together and starts: the controls (point
  * source, Compute, timings, downloads) drive the renderer (the diagram
- * canvas); the compare and sweep views POST compare on their own; every
+ * canvas); Step through replays the algorithm's steps on the same canvas;
+ * the compare and sweep views POST compare on their own; every
  * chart and the canvas follow the window's size and device pixel ratio.
  * The first diagram is computed at once. The modules, each by concern:
  *
@@ -14,6 +15,10 @@
  *   worker.js    fetches, decodes and prepares large answers off-thread
  *   renderer.js  the diagram canvas: view, drawing in slices, pan, zoom
  *   controls.js  point sources, Compute, timings, downloads
+ *   stepper.js   Step through: the algorithm's traced steps, played
+ *   replay.js    a trace replayed: the state after any step, the diagram
+ *   replaydraw.js  what a step's frame shows, drawn and in words
+ *   exact.js     the core's in-circle test, circumcentre and bisector
  *   compare.js   the compare view
  *   sweep.js     the size sweep
  *   charts.js    what the charts share
@@ -23,6 +28,7 @@ import { resizeCanvas } from './renderer.js';
 import { wireControls, compute } from './controls.js';
 import { runCompare, drawBars } from './compare.js';
 import { wireSweep, drawSweep } from './sweep.js';
+import { wireStepper } from './stepper.js';
 
 function redrawAll() {
     resizeCanvas();
@@ -44,6 +50,7 @@ function watchPixelRatio() {
 
 function start() {
     wireControls();
+    wireStepper();
     $('compare').addEventListener('click', runCompare);
     wireSweep();
     /* the canvas follows its box and the device pixel ratio */

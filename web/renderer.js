@@ -30,7 +30,8 @@
  * Invariants: the view is kept in model units (geometry.js), so it
  * survives a recompute of the same data; one frame job runs at a time (a
  * new one replaces it); which layers are drawn is the layers object, set
- * by the controls; pub mirrors the last finished frame (what it drew, in
+ * by the controls, and an overlay (the step-through replay), when set,
+ * draws instead of them; pub mirrors the last finished frame (what it drew, in
  * vectors and in pixels) and pub.drawing says whether one is in progress.
  *
  * Cost: a frame is O(items in view + sites) of script and never more than
@@ -81,6 +82,15 @@ const SETTLE_MS = 140;
 
 /* What to draw; the controls keep it in step with the Draw checkboxes. */
 export const layers = { sites: true, edges: true, delaunay: false, clip: false };
+
+/* An overlay draws instead of the diagram's layers (the step-through
+ * replay, stepper.js): {draw(ov, layers)}, a generator like the layers'
+ * (see overlayView for ov). The grid, the view and everything else stay. */
+let overlay = null;
+
+export function setOverlay(o) {
+    overlay = o;
+}
 
 /* The prepared drawing of the last result (geometry.js prepare()). */
 let geom = null;
@@ -388,7 +398,7 @@ function startFrame() {
     publishView();
     const job = {
         W: W, H: H, dpr: dpr, cssW: cssW, cssH: cssH,
-        map: modelMap(), world: worldMap(), g: geom, layers: Object.assign({}, layers),
+        map: modelMap(), world: worldMap(), g: geom, layers: Object.assign({}, layers), overlay: overlay, frame: frame,
         c: work.ctx, t0: performance.now(), scriptMs: 0, rasterMs: 0, slices: 0, version: version,
         stats: { edges: 0, rays: 0, edgePixels: 0, delaunay: 0, delaunayPixels: 0, cells: 0, cellPixels: 0, sites: 0 },
     };
@@ -481,7 +491,9 @@ function* frameSteps(job) {
     const labels = drawGrid(job);
     job.progress = 0;
     job.total = 1;
-    if (g) {
+    if (job.overlay) {
+        yield* job.overlay.draw(overlayView(job), L);
+    } else if (g) {
         const m = job.map;
         /* the model rectangle in view */
         const vr = [-m.bx / m.a, (m.by - job.H) / m.a, (job.W - m.bx) / m.a, m.by / m.a];
@@ -506,6 +518,25 @@ function* frameSteps(job) {
         if (L.sites && g.ns) yield* drawSites(job);
     }
     drawLabels(job, labels);
+}
+
+/* What an overlay draws with: the frame's context c (device pixels, no
+ * transform), its size W x H, dpr, the world -> device map X(x), Y(y)
+ * (through the model frame, so that offsets and scales of the data keep
+ * their precision), scale (device px per world unit) and the visible
+ * world rectangle [x0, y0, x1, y1]. */
+function overlayView(job) {
+    const m = job.map, fr = job.frame;
+    const a = m.a, k = fr.k, cx = fr.cx, cy = fr.cy, bx = m.bx, by = m.by;
+    const toWorld = (X, Y) => [(X - bx) / a / k + cx, (by - Y) / a / k + cy];
+    const lo = toWorld(0, job.H), hi = toWorld(job.W, 0);
+    job.c.setTransform(1, 0, 0, 1, 0, 0);
+    return {
+        c: job.c, W: job.W, H: job.H, dpr: job.dpr, scale: a * k,
+        X: (x) => a * ((x - cx) * k) + bx,
+        Y: (y) => by - a * ((y - cy) * k),
+        world: [lo[0], lo[1], hi[0], hi[1]],
+    };
 }
 
 /* The runs of a grid index (geometry.js) that can meet the model

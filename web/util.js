@@ -57,6 +57,7 @@ export const pub = {
     lastError: null,      /* {status, title, detail, pointer, line} */
     lastCompare: null,    /* normalised compare answer */
     lastSweep: null,      /* the newest sweep (sweep.js), sweeps: all kept */
+    replay: null,         /* the step-through replay (stepper.js) */
     timings: null,        /* {server_ms, roundtrip_ms, draw_ms, phases} */
     decodedIn: null,      /* 'worker' or 'page': where the last answer was read */
     frameMs: 0,           /* script time of the last frame, all its slices */

@@ -8,18 +8,22 @@
  * clicks points in, pans and zooms, changes N and seed (recomputed, or
  * marked out of date), compares the three algorithms (an answer shaped as
  * the contract says, with repeat, spread, runs and counts, and the
- * service's own, with or without repeat), runs a sweep of two
- * distributions and exports it as CSV, PNG and SVG, downloads the
- * diagram, lays the page out on a phone, draws 10^5 points and then 10^6
- * with every layer on while typing and dragging (the long tasks the
- * browser reports are printed, never judged: the test asserts that input
- * was handled while the frame was being drawn). Each step asserts on what
+ * service's own), runs a sweep of two distributions and exports it as
+ * CSV, PNG and SVG, downloads the diagram, lays the page out on a phone,
+ * draws 10^5 points and then 10^6 with every layer on while typing and
+ * dragging (the long tasks the browser reports are printed, never judged:
+ * the test asserts that input was handled while the frame was being
+ * drawn), and steps through each algorithm's trace of a degenerate set to
+ * the end (the last frame's edges and vertices against a normal answer;
+ * the frame counter and counts against the trace, stepping back and
+ * forth), on a phone too, and through 2,000 points. Each step asserts on what
  * the page shows (text, table rows, canvas pixels) and on the state it
  * exposes in window.voronoid; any console error, uncaught page error or
  * failed request fails the run. The page's own files are served with the
  * service's Content-Security-Policy (added by the test where the daemon
- * does not send it), so a policy violation fails the run too. Screenshots go to VOR_BROWSER_OUT
- * (default $B/browser). The daemon is stopped at the end, also on failure.
+ * does not send it), so a policy violation fails the run too. Screenshots
+ * go to VOR_BROWSER_OUT (default $B/browser). The daemon is stopped at the
+ * end, also on failure.
  *
  * Environment: VOR_DAEMON (daemon binary), VOR_WEB_DIR (serve the page from
  * this directory with --web-dir instead of the embedded copy), VOR_CHROMIUM
@@ -636,14 +640,9 @@ async function main() {
             await page.click('#generate');
             await waitComputed(page, before);
             await page.selectOption('#repeat', '3');
-            allowHttpErrors++; /* a service without repeat answers 400 once */
-            try {
-                before = await state(page);
-                await page.click('#compare');
-                await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            before = await state(page);
+            await page.click('#compare');
+            await waitOrError(page, (b) => window.voronoid.compareCount > b.compareCount, before, before.errorCount);
             const c = await page.evaluate(() => window.voronoid.lastCompare);
             assert(c, 'no compare result: ' + JSON.stringify((await state(page)).lastError));
             const rows = await page.locator('#compare-table tbody tr').count();
@@ -656,23 +655,18 @@ async function main() {
             const agree = await text(page, '#agree');
             assert(/identical/.test(agree), 'agreement line "' + agree + '"');
             const note = await text(page, '#compare-note');
-            if (c.repeatDropped) {
-                /* an older service: one run each, and the page says so */
-                assert(/does not take repeat/.test(note), 'note: ' + note);
-                console.log('     this service does not take repeat: one run per algorithm');
-            } else {
-                assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
-                for (const r of c.rows) {
-                    const t = r.spread && r.spread.compute_ms;
-                    assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
-                    assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
-                }
-                assert(/median of 3 runs/.test(note), 'note: ' + note);
-                /* three runs of real timings: a spread under each median (or
-                 * none where all three took the same time) */
-                const spreads = await page.locator('#compare-table .spread').allInnerTexts();
-                assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
+            assert(c.repeat === 3, 'asked for 3 runs, the answer says ' + c.repeat);
+            for (const r of c.rows) {
+                const t = r.spread && r.spread.compute_ms;
+                assert(t && t.min <= t.median && t.median <= t.max, r.algorithm + ': spread ' + JSON.stringify(r.spread));
+                assert(Array.isArray(r.runs_ms) && r.runs_ms.length === 3, r.algorithm + ': runs ' + JSON.stringify(r.runs_ms));
+                assert(r.counts && Object.keys(r.counts).length > 0, r.algorithm + ': no counts');
             }
+            assert(/median of 3 runs/.test(note), 'note: ' + note);
+            /* three runs of real timings: a spread under each median (or
+             * none where all three took the same time) */
+            const spreads = await page.locator('#compare-table .spread').allInnerTexts();
+            assert(spreads.length >= 2 && spreads.every((t) => / – /.test(t)), 'spread cells ' + spreads.join(' | '));
             /* a time cell: the median, and under it (with repeats) the
              * spread */
             const cells = await page.locator('#compare-table tbody td').allInnerTexts();
@@ -704,13 +698,8 @@ async function main() {
             await page.check('input[name=sweep-dist][value=gaussian]');
             await page.fill('#sweep-sizes', '500, 1000, 2000, 5000, 10000, 20000');
             const before = await state(page);
-            allowHttpErrors++;
-            try {
-                await page.click('#sweep');
-                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            await page.click('#sweep');
+            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, before, before.errorCount);
             const sw = await page.evaluate(() => window.voronoid.lastSweep);
             assert(sw && sw.done, 'the sweep did not finish: ' + JSON.stringify((await state(page)).lastError));
             /* sizes in order, the two distributions interleaved at each */
@@ -720,7 +709,7 @@ async function main() {
                 for (const a of ALGORITHMS) {
                     const t = r.times[a];
                     assert(t && t.min <= t.median && t.median <= t.max, r.distribution + ' ' + r.n + ' ' + a + ': ' + JSON.stringify(t));
-                    if (!sw.repeatDropped) assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
+                    assert(t.runs && t.runs.length === 3, 'runs ' + JSON.stringify(t));
                 }
                 assert(r.agree, r.distribution + ' N=' + r.n + ': the algorithms disagree');
             }
@@ -760,7 +749,7 @@ async function main() {
                 const t = row.times[f.algorithm];
                 assert(Number(f.median_ms) === t.median && Number(f.min_ms) === t.min && Number(f.max_ms) === t.max,
                     'CSV line ' + line + ' against ' + JSON.stringify(t));
-                if (!sw.repeatDropped) assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
+                assert(f.runs_ms.split(';').length === 3 && f.repeat === '3', 'CSV runs ' + line);
                 assert(f.status === 'ok' && f.agree === 'yes' && f.seed === String(sw.seed), 'CSV line ' + line);
             }
             const png = await download('sweep-png');
@@ -778,13 +767,8 @@ async function main() {
             await page.uncheck('input[name=sweep-dist][value=gaussian]');
             await page.fill('#sweep-sizes', '1000, 2000');
             const b2 = await state(page);
-            allowHttpErrors++;
-            try {
-                await page.click('#sweep');
-                await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
-            } finally {
-                allowHttpErrors--;
-            }
+            await page.click('#sweep');
+            await waitOrError(page, (b) => window.voronoid.sweepCount > b.sweepCount, b2, b2.errorCount);
             const kept = await page.evaluate(() => ({ sweeps: window.voronoid.sweeps.length, series: window.voronoid.sweepSeries.length }));
             assert(kept.sweeps === 2 && kept.series === 9, 'after a second sweep: ' + JSON.stringify(kept));
             assert(await page.locator('#sweep-table tbody tr[data-n]').count() === 14, 'both sweeps in the table');
@@ -977,6 +961,238 @@ async function main() {
             } finally {
                 await page.setViewportSize({ width: 1280, height: 800 });
             }
+        });
+
+        /* ---- step through ------------------------------------------------ */
+
+        /* A small degenerate set: a 5 x 5 grid (cocircular fours
+         * everywhere, collinear hull sides), eight points on a circle of
+         * radius 3 around its centre (four of them exactly cocircular),
+         * and two duplicates. */
+        const replayPoints = [];
+        for (let i = 0; i < 5; i++) for (let j = 0; j < 5; j++) replayPoints.push([i, j]);
+        for (let k = 0; k < 8; k++) replayPoints.push([2 + 3 * Math.cos(k * Math.PI / 4), 2 + 3 * Math.sin(k * Math.PI / 4)]);
+        replayPoints.push([2, 2], [4, 0]);
+        const post = async (body) => {
+            const r = await fetch(base + 'voronoi', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+            const j = await r.json();
+            assert(r.status === 200, 'POST voronoi answered ' + r.status + ': ' + JSON.stringify(j));
+            return j;
+        };
+        /* the running counts after step f, merged from the trace here */
+        const countsAt = (steps, f) => {
+            const c = {};
+            for (let k = 0; k <= f; k++) Object.assign(c, steps[k].counts);
+            return c;
+        };
+        /* edges as site pairs -> [end, end, ray] with the ends as vertex
+         * coordinates (null for an unbounded end) */
+        const edgeMap = (d) => new Map(d.edges.map((e) => [e.sites.join(','),
+            JSON.stringify([e.ends.map((i) => (i == null ? null : d.vertices[i])), e.ray || null])]));
+        const replayState = () => page.evaluate(() => {
+            const r = window.voronoid.replay;
+            return {
+                active: r.active, algorithm: r.algorithm, steps: r.steps, frame: r.frame, prepared: r.prepared,
+                ready: r.ready, playing: r.playing, kind: r.kind, counts: r.counts, matches: r.matches, loads: r.loads,
+                text: document.getElementById('rp-frame').textContent,
+                what: document.getElementById('rp-what').textContent,
+                shown: Object.fromEntries(Array.from(document.querySelectorAll('#rp-counts > div')).map((d) =>
+                    [d.dataset.count, d.querySelector('.now').textContent.replace(/,/g, '')])),
+            };
+        });
+        /* the frame shown is f (0-based): counter, state and the counts
+         * beside the picture, against the trace */
+        const checkFrame = async (steps, f, what) => {
+            await page.waitForFunction((g) => window.voronoid.replay.frame === g, f);
+            const s = await replayState();
+            assert(s.text.startsWith('step ' + (f + 1).toLocaleString('en-US') + ' / ' + steps.length.toLocaleString('en-US')),
+                what + ': the counter reads "' + s.text + '" at step ' + (f + 1));
+            assert(s.kind === steps[f].kind, what + ': kind ' + s.kind + ', the trace says ' + steps[f].kind);
+            const want = countsAt(steps, f);
+            for (const k of Object.keys(want)) {
+                assert(s.counts[k] === want[k] && s.shown[k] === String(want[k]),
+                    what + ': count ' + k + ' is ' + s.counts[k] + ' (shown ' + s.shown[k] + '), the trace says ' + want[k]);
+            }
+            return s;
+        };
+        const scrubTo = (f) => page.evaluate((g) => {
+            const s = document.getElementById('rp-scrub');
+            s.value = String(g);
+            s.dispatchEvent(new Event('input', { bubbles: true }));
+        }, f);
+        /* the frame nearest the middle whose step is of this kind (and
+         * passes ok) */
+        const middleOf = (steps, kinds, ok) => {
+            let best = -1;
+            steps.forEach((st, i) => {
+                if (kinds.includes(st.kind) && (!ok || ok(st)) && (best < 0 || Math.abs(i - steps.length / 2) < Math.abs(best - steps.length / 2))) best = i;
+            });
+            return best;
+        };
+
+        await step('step through: each algorithm, stepped to the end of a degenerate set, ends in the service\'s diagram', async () => {
+            const before = await state(page);
+            await page.setInputFiles('#file', { name: 'degenerate.csv', mimeType: 'text/csv', buffer: Buffer.from(csvOf(replayPoints)) });
+            await waitComputed(page, before);
+            await page.locator('input[name=algorithm][value=fortune]').check();
+            await page.waitForFunction(() => !window.voronoid.busy && !window.voronoid.drawing);
+            let loads = (await replayState()).loads;
+            await page.click('#step-through');
+            for (const alg of ALGORITHMS) {
+                if (alg !== 'fortune') {
+                    loads = (await replayState()).loads;
+                    await page.locator('input[name=algorithm][value="' + alg + '"]').check();
+                }
+                await waitOrError(page, (a) => window.voronoid.replay.loads > a.loads && window.voronoid.replay.ready &&
+                    window.voronoid.replay.algorithm === a.alg && !window.voronoid.busy, { loads: loads, alg: alg }, (await state(page)).errorCount);
+                const traced = await post({ points: replayPoints, algorithm: alg, trace: true, include: ['counts'] });
+                const normal = await post({ points: replayPoints, algorithm: alg, include: ['vertices', 'edges', 'counts'] });
+                const steps = traced.trace.steps;
+                let s = await replayState();
+                assert(s.active && s.algorithm === alg && s.steps === steps.length && s.prepared === steps.length,
+                    alg + ': replay state ' + JSON.stringify(s).slice(0, 300));
+                assert(await page.locator('#replay').isVisible() && await page.getAttribute('#step-through', 'aria-pressed') === 'true',
+                    alg + ': the step-through panel is not shown');
+                await checkFrame(steps, 0, alg + ' first frame');
+                /* to the end */
+                await page.click('#rp-last');
+                s = await checkFrame(steps, steps.length - 1, alg + ' last frame');
+                assert(s.kind === 'end', alg + ': the last step is ' + s.kind);
+                for (const k of Object.keys(normal.counts)) {
+                    assert(s.counts[k] === normal.counts[k], alg + ': final count ' + k + ' ' + s.counts[k] + ', the answer has ' + normal.counts[k]);
+                }
+                /* the last frame's diagram, rebuilt from the replayed
+                 * triangulation, is the normal answer's: the same site
+                 * pairs, vertex positions and rays, bit for bit */
+                const frame = await page.evaluate(() => window.voronoid.replay.frameDiagram());
+                assert(frame.vertices.length === normal.n_vertices && frame.edges.length === normal.n_edges,
+                    alg + ': last frame has ' + frame.vertices.length + ' vertices, ' + frame.edges.length + ' edges; the answer ' +
+                    normal.n_vertices + ', ' + normal.n_edges);
+                const got = edgeMap(frame), want = edgeMap(normal);
+                for (const [k, v] of want) {
+                    assert(got.get(k) === v, alg + ': edge ' + k + ' is ' + got.get(k) + ' in the last frame, ' + v + ' in the answer');
+                }
+                assert(s.matches === true && /same diagram as the service/.test(s.what), alg + ': the page does not say the last frame is the answer: ' + s.what);
+                /* back and forth: buttons, keys, the scrubber */
+                const n = steps.length;
+                for (let i = 0; i < 3; i++) await page.click('#rp-back');
+                await checkFrame(steps, n - 4, alg + ' three steps back');
+                await page.locator('#rp-first').focus();
+                await page.keyboard.press('ArrowRight');
+                await checkFrame(steps, n - 3, alg + ' arrow right');
+                await page.keyboard.press('Home');
+                await checkFrame(steps, 0, alg + ' Home');
+                for (let i = 0; i < 5; i++) await page.click('#rp-fwd');
+                await checkFrame(steps, 5, alg + ' five steps forward');
+                await page.keyboard.press('Shift+Period');
+                await checkFrame(steps, 15, alg + ' shift-period');
+                await page.keyboard.press('Comma');
+                await checkFrame(steps, 14, alg + ' comma');
+                const mid = middleOf(steps, alg === 'fortune' ? ['circle'] : (alg === 'flip' ? ['flip'] : ['insert']),
+                    (st) => !st.cavity || st.cavity.length >= 3);
+                assert(mid > 0, alg + ': no step to show mid-replay');
+                await scrubTo(mid);
+                await checkFrame(steps, mid, alg + ' scrubbed to the middle');
+                await page.keyboard.press('End');
+                await checkFrame(steps, n - 1, alg + ' End');
+                await scrubTo(mid);
+                await checkFrame(steps, mid, alg + ' back to the middle');
+                await page.waitForFunction(() => !window.voronoid.drawing);
+                const px = await canvasPixels(page, 'diagram');
+                assert(px.colour > 300 && px.nonbg > 3000, alg + ': the frame draws little: ' + JSON.stringify(px));
+                await page.screenshot({ path: path.join(OUT, 'replay-' + alg + '.png') });
+                /* playing runs to the end by itself */
+                await page.selectOption('#rp-speed', '500');
+                await page.click('#rp-play');
+                await page.waitForFunction((last) => window.voronoid.replay.frame === last && !window.voronoid.replay.playing, n - 1);
+            }
+        });
+
+        await step('step through on a phone (390x844): the picture first, the controls under it', async () => {
+            await page.setViewportSize({ width: 390, height: 844 });
+            try {
+                const traced = await post({ points: replayPoints, algorithm: 'flip', trace: true });
+                const mid = middleOf(traced.trace.steps, ['flip']);
+                await scrubTo(mid);
+                await checkFrame(traced.trace.steps, mid, 'phone');
+                await page.locator('#diagram').scrollIntoViewIfNeeded();
+                await page.waitForFunction(() => !window.voronoid.drawing && document.getElementById('diagram').clientWidth < 400);
+                const r = await page.evaluate(() => {
+                    const box = (id) => { const b = document.getElementById(id).getBoundingClientRect(); return { top: b.top, bottom: b.bottom, left: b.left, right: b.right }; };
+                    return { canvas: box('diagram'), bar: box('rp-scrub'), play: box('rp-play'), counts: box('rp-counts'),
+                        vw: window.innerWidth, scrollW: document.documentElement.scrollWidth };
+                });
+                assert(r.scrollW <= r.vw, 'the page is wider than the phone: ' + JSON.stringify(r));
+                assert(r.canvas.bottom - r.canvas.top >= 300 && r.canvas.right - r.canvas.left >= 380, 'the canvas is small: ' + JSON.stringify(r));
+                assert(r.play.top >= r.canvas.bottom && r.bar.right <= r.vw && r.counts.right <= r.vw, 'controls not under the picture: ' + JSON.stringify(r));
+                await page.screenshot({ path: path.join(OUT, 'replay-phone.png') });
+                const px = await canvasPixels(page, 'diagram');
+                assert(px.colour > 200 && px.nonbg > 2000, 'no frame on the phone: ' + JSON.stringify(px));
+            } finally {
+                await page.setViewportSize({ width: 1280, height: 800 });
+            }
+        });
+
+        await step('step through 2000 points: prepared in slices, played, scrubbed; too many points refused', async () => {
+            await page.evaluate(() => {
+                window.__longTasks = [];
+                window.__longObserver = new PerformanceObserver((list) => {
+                    for (const e of list.getEntries()) window.__longTasks.push({ start: e.startTime, ms: e.duration });
+                });
+                window.__longObserver.observe({ type: 'longtask' });
+            });
+            const traced = await post({ generate: { distribution: 'uniform', n: 2000, seed: 4 }, algorithm: 'fortune', trace: true });
+            const steps = traced.trace.steps, n = steps.length;
+            const t0 = await page.evaluate(() => performance.now());
+            await page.locator('input[name=algorithm][value=fortune]').check();
+            await page.fill('#n', '2000');
+            await page.selectOption('#distribution', 'uniform');
+            await page.fill('#seed', '4');
+            await page.click('#generate');
+            await waitOrError(page, (k) => window.voronoid.replay.steps === k && window.voronoid.replay.algorithm === 'fortune' &&
+                window.voronoid.replay.ready && !window.voronoid.busy, n, (await state(page)).errorCount);
+            let s = await replayState();
+            assert(s.steps === n && s.matches === true, 'replay of ' + s.steps + ' steps (the trace has ' + n + '), matches ' + s.matches);
+            await page.selectOption('#rp-speed', '2000');
+            await page.click('#rp-play');
+            await page.waitForFunction(() => window.voronoid.replay.frame > 200);
+            await page.click('#rp-play');
+            s = await replayState();
+            assert(!s.playing && s.frame > 200, 'pause: ' + JSON.stringify({ playing: s.playing, frame: s.frame }));
+            await checkFrame(steps, s.frame, 'paused');
+            for (const f of [n - 1, Math.floor(n / 3), n - 2, 1, Math.floor(n / 2)]) {
+                await scrubTo(f);
+                await checkFrame(steps, f, 'scrubbed');
+            }
+            await page.click('#rp-back');
+            await checkFrame(steps, Math.floor(n / 2) - 1, 'a step back');
+            await page.waitForFunction(() => !window.voronoid.drawing);
+            const t1 = await page.evaluate(() => performance.now());
+            const tasks = (await page.evaluate(() => window.__longTasks)).filter((t) => t.start >= t0 && t.start <= t1);
+            await page.evaluate(() => window.__longObserver.disconnect());
+            console.log('     2000 points, Fortune: ' + n + ' steps; long tasks (> 50 ms) from Generate to here: ' + tasks.length +
+                (tasks.length ? ', longest ' + Math.max(...tasks.map((t) => t.ms)).toFixed(0) + ' ms' : ''));
+            await page.screenshot({ path: path.join(OUT, 'replay-2000.png') });
+            /* beyond the trace limit: said so, and the mode is left */
+            const b0 = await state(page);
+            await page.fill('#n', '2500');
+            await page.click('#generate');
+            await page.waitForFunction((c) => window.voronoid.computeCount > c && !window.voronoid.busy && !window.voronoid.drawing,
+                b0.computeCount);
+            const err = (await state(page)).lastError;
+            assert(err && /at most 2,000 points/.test(err.detail), 'no word on the limit: ' + JSON.stringify(err));
+            s = await replayState();
+            assert(!s.active && await page.locator('#replay').isHidden(), 'the step-through mode stays on');
+            await page.click('#error-close');
+            /* leaving by the button computes as usual */
+            const b = await state(page);
+            await page.fill('#n', '500');
+            await page.click('#step-through');
+            await waitOrError(page, () => window.voronoid.replay.ready && !window.voronoid.busy, null, b.errorCount);
+            await page.click('#rp-close');
+            const after = await waitComputed(page, b);
+            assert(!(await replayState()).active && after.result.n_sites === 500 && after.edgesDrawn > 0,
+                'after leaving: ' + JSON.stringify(after.result).slice(0, 200));
         });
 
         await step('no console errors, page errors or failed requests', async () => {
