@@ -189,7 +189,12 @@ typedef struct sweep {
     uint32_t *blink;   /* per record: previous and next in its bucket */
     size_t scanned, budget; /* buckets and entries read; the limit */
     evrec *recs;
-    uint32_t *hpos; /* per live record: heap position, or bucket */
+    uint32_t *hpos; /* per live record: heap position, or bucket, or LATE
+                     * and its place in late[] */
+    uint32_t *late; /* the events after the last site, unordered (ekey) */
+    uint32_t n_late;
+    int late_ok;    /* sites remain: a new event may wait in late[] */
+    double ylast;   /* the last site's y */
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
@@ -1153,7 +1158,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     size_t c = cap, k = w->n_recs;
     /* widest alignment first */
     size_t bytes = c * (6 * sizeof(double) + 2 * sizeof(event) +
-                        sizeof(evrec) + 4 * sizeof(uint32_t) + 1);
+                        sizeof(evrec) + 5 * sizeof(uint32_t) + 1);
     char *p = malloc(bytes);
     if (!p) return -1;
     double *cache = (double *)p;
@@ -1162,7 +1167,8 @@ static int recs_resize(sweep *w, uint32_t cap) {
     evrec *recs = (evrec *)(ekey + c);
     uint32_t *blink = (uint32_t *)(recs + c);
     uint32_t *hpos = blink + 2 * c;
-    uint8_t *known = (uint8_t *)(hpos + c);
+    uint32_t *late = hpos + c;
+    uint8_t *known = (uint8_t *)(late + c);
     if (k) {
         memcpy(cache, w->cache, 6 * k * sizeof *cache);
         memcpy(heap, w->heap, k * sizeof *heap);
@@ -1170,6 +1176,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
         memcpy(recs, w->recs, k * sizeof *recs);
         memcpy(blink, w->blink, 2 * k * sizeof *blink);
         memcpy(hpos, w->hpos, k * sizeof *hpos);
+        memcpy(late, w->late, w->n_late * sizeof *late);
         memcpy(known, w->known, k);
     }
     free(w->rec_block);
@@ -1180,6 +1187,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     w->recs = recs;
     w->blink = blink;
     w->hpos = hpos;
+    w->late = late;
     w->known = known;
     w->cap_recs = cap;
     return 0;
@@ -1377,8 +1385,17 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * average the events move into the heap, O(log n) per operation whatever
  * the input. They also move there after the last site, when buckets
  * would no longer split anything, and the heap serves small inputs.
+ *
+ * Whatever holds the others, an event whose interval lies wholly after
+ * the last site's y cannot come before any site: while sites remain, it
+ * waits unordered in late[] (O(1) in and out) and joins the heap after
+ * the last site, in one O(n) heap construction. Sites in convex position
+ * below their circles' tops (on an arc of a circle, say) put nearly every
+ * event there, each of which would otherwise cost a heap operation as it
+ * comes and another as the next site cancels it.
  */
 #define BUCKET_READS 16
+#define LATE 0x80000000u /* hpos: the event waits in late[] */
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
     return ymap_rank(&w->ymap, lo);
@@ -1438,6 +1455,36 @@ static void to_heap(sweep *w) {
     w->bhead = NULL;
 }
 
+static inline int late_event(const sweep *w, const event *e) {
+    return w->late_ok && e->lo > w->ylast;
+}
+
+static void late_put(sweep *w, event e) {
+    w->ekey[e.rec] = e;
+    w->hpos[e.rec] = LATE | w->n_late;
+    w->late[w->n_late++] = e.rec;
+}
+
+static void late_remove(sweep *w, uint32_t r) {
+    uint32_t k = w->hpos[r] & ~LATE, m = w->late[--w->n_late];
+    w->late[k] = m;
+    w->hpos[m] = LATE | k;
+}
+
+/* After the last site: the waiting events join the others in the heap
+ * (the buckets are gone by then). */
+static void late_flush(sweep *w) {
+    assert(!w->bhead);
+    w->late_ok = 0;
+    if (!w->n_late) return;
+    for (uint32_t k = 0; k < w->n_late; k++) {
+        uint32_t r = w->late[k];
+        heap_put(w, w->n_heap++, w->ekey[r]);
+    }
+    w->n_late = 0;
+    for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
+}
+
 /* The earliest event (the queue is not empty). */
 static inline const event *q_top(sweep *w) {
     if (!w->bhead) return &w->heap[0];
@@ -1447,7 +1494,9 @@ static inline const event *q_top(sweep *w) {
 
 /* Adds event e, whose record holds nothing in the queue. */
 static void q_insert(sweep *w, event e) {
-    if (w->bhead) {
+    if (late_event(w, &e)) {
+        late_put(w, e);
+    } else if (w->bhead) {
         w->ekey[e.rec] = e;
         bucket_link(w, e.rec);
         w->n_heap++;
@@ -1461,7 +1510,9 @@ static void q_insert(sweep *w, event e) {
 
 /* Removes record r's event. */
 static void q_remove(sweep *w, uint32_t r) {
-    if (w->bhead) {
+    if (w->hpos[r] & LATE) {
+        late_remove(w, r);
+    } else if (w->bhead) {
         bucket_unlink(w, r);
         w->n_heap--;
         if (w->top == r) w->top = NO_EVENT;
@@ -1472,7 +1523,7 @@ static void q_remove(sweep *w, uint32_t r) {
 
 /* Record e.rec's event becomes e. */
 static void q_update(sweep *w, event e) {
-    if (w->bhead) {
+    if (w->bhead || (w->hpos[e.rec] & LATE) || late_event(w, &e)) {
         q_remove(w, e.rec);
         q_insert(w, e);
         return;
@@ -1518,6 +1569,27 @@ static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
     w->known[r] = 0; /* nothing known about ties yet */
 }
 
+/* Narrows record r's interval [*lo, *hi] by its double-double bounds when
+ * it is wide. Nearly collinear triples (sites on a circle make every
+ * triple so) have huge circles whose tops the double filter bounds
+ * loosely where their differences are not exact (see
+ * vor__fortune_circle_top); their intervals overlap, and every comparison of two such
+ * events would read both records' bounds. Computed here once, the bounds
+ * shrink the interval to a few ulps, and the queue's plain interval test
+ * separates the tops from then on. The margin 2m covers the rounding of
+ * t and of t -+ 2m: |t - (d0 + d1)| <= |t| 2^-53. */
+static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
+    if (w->lattice || !(*hi - *lo > (fabs(*lo) + fabs(*hi)) * 0x1p-40))
+        return;
+    const double *d;
+    if (!event_dd(w, r, &d)) return;
+    double t = d[0] + d[1];
+    double m = d[2] + fabs(t) * 0x1p-51 + 0x1p-1000;
+    double l = t - 2 * m, h = t + 2 * m;
+    if (l > *lo) *lo = l;
+    if (h < *hi) *hi = h;
+}
+
 /* Gives arc b the circle event of its triple, if the breakpoints around it
  * converge. b must have no event. VOR_ENOMEM if the heap cannot grow. */
 static vor_status add_event(sweep *w, uint32_t b) {
@@ -1528,6 +1600,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
+    narrow(w, r, &lo, &hi);
     q_insert(w, (event){lo, hi, r});
     ARC(b).ev = r;
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
@@ -1549,6 +1622,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     }
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     rec_fill(w, r, b);
+    narrow(w, r, &lo, &hi);
     q_update(w, (event){lo, hi, r});
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
@@ -1707,6 +1781,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     for (;;) {
         vor_status st;
         if (w->bhead && (i == n || w->scanned > w->budget)) to_heap(w);
+        if (i == n && w->late_ok) late_flush(w);
         w->budget += BUCKET_READS;
         if (w->n_heap > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
@@ -1824,6 +1899,8 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     if (!w.arcs || !w.red || !w.ehe || !w.ws)
         goto fail;
     w.top = NO_EVENT;
+    w.late_ok = 1;
+    w.ylast = w.xy[2 * w.n - 1];
     if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX &&
         w.xy[2 * w.n - 1] > w.xy[1]) {
         /* one bucket per site, if the sites' y range has a width */

@@ -483,7 +483,8 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  *
  * Errors, against the exact values for the exact differences:
  *   d:  |d~ - d| <= ed = 4 eps (|bx cy| + |by cx|)   (Shewchuk's orient2d
- *       bound (3 + 16 eps) eps, with room for rounding the bound);
+ *       bound (3 + 16 eps) eps, with room for rounding the bound), or
+ *       ed = 4 eps |d~| for exact differences (see the code);
  *   nx: |nx~ - nx| <= enx = 8 eps (|cy |b|^2| + |by |c|^2|) (as F above);
  *   ux: with ed <= |d~| / 2 (else no bound is attempted), |d| >= |d~| / 2 and
  *       |nx~/d~ - nx/d| <= enx/|d~| + (|nx~| + enx) ed / (|d~| |d|), so
@@ -506,6 +507,12 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  * test passes) and the result scaled back, with an absolute 2^-1060 for a
  * possible underflow there. Overflow makes a value inf or nan, which the
  * final test turns into "no bound". */
+/* 1 if fl(p - q) = p - q: the error term of two_diff is zero. */
+static inline int diff_exact(double p, double q) {
+    double x = p - q, bv = p - x, av = x + bv;
+    return (p - av) + (bv - q) == 0;
+}
+
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi) {
     double bx = b[0] - a[0], by = b[1] - a[1];
@@ -524,6 +531,22 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     double l = bx * cy, r = by * cx, d = l - r;
     double ed = 0x1p-51 * (fabs(l) + fabs(r));
     double ad = fabs(d);
+    /* Nearly collinear sites: d cancels and its bound dominates every
+     * later one. When the four differences are exact (close sites, by
+     * Sterbenz's lemma; a rescaling by a power of two keeps them so), d is
+     * recomputed with a relative error of at most 2u = 2^-52 by Kahan's
+     * fma algorithm for l - r (Jeannerod, Louvet and Muller, 2013): the
+     * product's error r - by cx is exact, and bx cy - r rounds once. The
+     * interval then shrinks by the factor d's relative error does: the
+     * neighbouring tops of sites on a circle, a few ulps apart after
+     * rounding, separate instead of all overlapping. */
+    if (ad < 0x1p-10 * (fabs(l) + fabs(r)) && diff_exact(b[0], a[0]) &&
+        diff_exact(b[1], a[1]) && diff_exact(c[0], a[0]) &&
+        diff_exact(c[1], a[1])) {
+        d = fma(bx, cy, -r) + fma(-by, cx, r);
+        ad = fabs(d);
+        ed = 0x1p-51 * ad + 0x1p-1000;
+    }
     /* d is orient2d(a, b, c) with an error below ed (Shewchuk's bound is
      * (3 + 16 eps) eps (|l| + |r|)): its sign is proven when |d| > 2 ed */
     if (!(ad > 2 * ed)) goto undecided;

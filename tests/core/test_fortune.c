@@ -361,6 +361,38 @@ static void test_circle_top_bounds(void **state) {
     /* the filters must be useful, not just safe */
     assert_true(finite > 20000);
     assert_true(dd_ok > 10000);
+
+    /* consecutive sites of a circle, rounded: nearly collinear triples,
+     * mostly with exact differences (the accurate orientation), some
+     * across an axis (without); radii from 2^-20 to 2^19 */
+    int tight = 0, tried = 0;
+    for (int it = 0; it < 20000; it++) {
+        double rad = ldexp(1.0, (int)(vt_next(&r) % 40) - 20);
+        double n = 1000.0 * (double)(1 + vt_next(&r) % 10000);
+        double i0 = (double)(vt_next(&r) % (uint64_t)n), t[3][2];
+        for (int k = 0; k < 3; k++) {
+            double a = 6.283185307179586 * (i0 + k) / n;
+            t[k][0] = rad * cos(a);
+            t[k][1] = rad * sin(a);
+        }
+        int want = vor_orient2d(t[0], t[1], t[2]);
+        for (int safe = 0; safe < 2; safe++) {
+            if (safe && !(in_safe_range(t[0]) && in_safe_range(t[1]) &&
+                          in_safe_range(t[2])))
+                continue;
+            double lo, hi;
+            int o = vor__fortune_circle_top(t[0], t[1], t[2], safe, &lo, &hi);
+            assert_int_equal(o, want);
+            if (o <= 0 || !isfinite(lo)) continue;
+            tried++;
+            tight += hi - lo <= 0x1p-40 * fabs(lo);
+            assert_true(q_top_vs(t[0], t[1], t[2], lo) >= 0);
+            assert_true(q_top_vs(t[0], t[1], t[2], hi) <= 0);
+        }
+    }
+    print_message("circle_top: %d of %d intervals on circles within "
+                  "2^-40 relative\n", tight, tried);
+    assert_true(tight > tried * 9 / 10);
 }
 
 static void test_site_first(void **state) {
@@ -998,6 +1030,15 @@ static void test_event_queue(void **state) {
     for (size_t i = 0; i < n; i++) xy[2 * i + 1] = xy[2 * i] / 3;
     xy[1] = 0.9;
     check_points("sites rounded onto a line, and one off it", xy, n, 1);
+    /* the lower half of a circle: every circle's top lies above the last
+     * site, so every event waits until the sites are done */
+    for (size_t i = 0; i < n; i++) {
+        double a = 3.141592653589793 * (1 + (double)i / (double)n);
+        xy[2 * i] = cos(a);
+        xy[2 * i + 1] = sin(a);
+    }
+    check_points("lower half circle: events after the last site", xy, n, 1);
+    check_points("lower half circle, small: the heap", xy, 40, 1);
     free(xy);
 
     enum { R = 400 };
