@@ -118,10 +118,13 @@ typedef struct arc {
     uint32_t ev; /* event record of this arc's triple, or NO_EVENT */
 } arc;
 
-/* A queue entry: lo <= y of the circle's top <= hi. */
+/* A queue entry: lo <= y of the circle's top <= hi. The arc is its
+ * record's, kept here too (the entry has room for it): the earliest
+ * event's arc is then read, and prefetched for the next, without the
+ * record. */
 typedef struct event {
     double lo, hi;
-    uint32_t rec;
+    uint32_t rec, arc;
 } event;
 
 /* An event record: alive while its event is in the queue. (Its queue
@@ -1601,7 +1604,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
     narrow(w, r, &lo, &hi);
-    q_insert(w, (event){lo, hi, r});
+    q_insert(w, (event){lo, hi, r, b});
     ARC(b).ev = r;
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
@@ -1623,7 +1626,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     rec_fill(w, r, b);
     narrow(w, r, &lo, &hi);
-    q_update(w, (event){lo, hi, r});
+    q_update(w, (event){lo, hi, r, b});
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
     return VOR_OK;
 }
@@ -1785,7 +1788,13 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
         w->budget += BUCKET_READS;
         if (w->n_heap > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
-            uint32_t b = w->recs[q_top(w)->rec].arc;
+            uint32_t b = q_top(w)->arc;
+            if (!w->bhead && w->n_heap > 2) {
+                /* the next event is most often one of the top's
+                 * children: its arc and neighbours will be read */
+                __builtin_prefetch(&w->arcs[w->heap[1].arc]);
+                __builtin_prefetch(&w->arcs[w->heap[2].arc]);
+            }
             drop_event(w, b);
             st = circle_event(w, b);
         } else if (i < n) {
