@@ -115,14 +115,21 @@ static void put_vertex(api__tracer *t, const double *v) {
     api__putc(t->out, ']');
 }
 
-/* ,"key":[[a,b,c],...] for n triangles; -1 if out of memory. */
-static int put_triangles(api__tracer *t, const char *key, const uint32_t *v,
-                         size_t n) {
+/* ,"key":[ -- the opening of a member whose value is a list; -1 if out of
+ * memory. */
+static int open_list(api__tracer *t, const char *key) {
     if (api__reserve(t->out, 16 + strlen(key))) return -1;
     api__putc(t->out, ',');
     api__putc(t->out, '"');
     api__put(t->out, key, strlen(key));
     API__PUTS(t->out, "\":[");
+    return 0;
+}
+
+/* ,"key":[[a,b,c],...] for n triangles; -1 if out of memory. */
+static int put_triangles(api__tracer *t, const char *key, const uint32_t *v,
+                         size_t n) {
+    if (open_list(t, key)) return -1;
     for (size_t i = 0; i < n; i++) {
         if (api__reserve(t->out, 40)) return -1;
         if (i) api__putc(t->out, ',');
@@ -135,11 +142,7 @@ static int put_triangles(api__tracer *t, const char *key, const uint32_t *v,
 /* A list of site numbers, ,"key":[...]; -1 if out of memory. */
 static int put_list(api__tracer *t, const char *key, const uint32_t *v,
                     size_t n) {
-    if (api__reserve(t->out, 16 + strlen(key))) return -1;
-    api__putc(t->out, ',');
-    api__putc(t->out, '"');
-    api__put(t->out, key, strlen(key));
-    API__PUTS(t->out, "\":[");
+    if (open_list(t, key)) return -1;
     for (size_t i = 0; i < n; i++) {
         if (i % 1024 == 0 && api__reserve(t->out, 1024 * 12 + 4)) return -1;
         if (i) api__putc(t->out, ',');

@@ -256,6 +256,22 @@ function workerReady() {
     return ready;
 }
 
+/* The diagram record of a fetched answer, binary or JSON; a ServiceError
+ * for a problem answer, an unreadable one for a body that is neither.
+ * Shared by the page and the worker. */
+export async function readAnswer(resp, binary) {
+    if (!resp.ok) throw problemFrom(resp, await resp.text());
+    if (binary) return fromBinary(await resp.arrayBuffer());
+    const text = await resp.text();
+    let res;
+    try {
+        res = JSON.parse(text);
+    } catch (e) {
+        throw unreadable('is not JSON the page can parse (' + e.message + ')');
+    }
+    return fromJson(res);
+}
+
 /* Fetches a diagram, decodes it and prepares it for drawing with
  * prepareFn (geometry prepare): all in the worker (worker.js) when one can
  * run, so that not even the assembly of a body of hundreds of megabytes
@@ -275,20 +291,7 @@ export async function fetchDiagram(req, signal, binary, nColours, prepareFn) {
             if (e.name === 'AbortError') throw e;
             throw unreachable(e);
         }
-        if (!resp.ok) throw problemFrom(resp, await resp.text());
-        let D;
-        if (binary) {
-            D = fromBinary(await resp.arrayBuffer());
-        } else {
-            const text = await resp.text();
-            let res;
-            try {
-                res = JSON.parse(text);
-            } catch (e) {
-                throw unreadable('is not JSON the page can parse (' + e.message + ')');
-            }
-            D = fromJson(res);
-        }
+        const D = await readAnswer(resp, binary);
         return {
             D: D, G: prepareFn(D, nColours), serverTiming: resp.headers.get('server-timing'),
             ms: performance.now() - t0, where: 'page',

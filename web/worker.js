@@ -17,9 +17,8 @@
  * Loaded as a module worker from the page's own origin (worker-src
  * 'self'; fetches are same-origin, connect-src 'self').
  */
-import { fromBinary, fromJson, unreadable } from './decode.js';
+import { readAnswer } from './decode.js';
 import { prepare, transferables } from './geometry.js';
-import { problemFrom } from './api.js';
 
 const aborts = new Map();
 
@@ -36,20 +35,7 @@ async function handle(m) {
             self.postMessage({ id: m.id, unreachable: String(e && e.message || e) });
             return;
         }
-        if (!resp.ok) throw problemFrom(resp, await resp.text());
-        let D;
-        if (m.binary) {
-            D = fromBinary(await resp.arrayBuffer());
-        } else {
-            const text = await resp.text();
-            let res;
-            try {
-                res = JSON.parse(text);
-            } catch (e) {
-                throw unreadable('is not JSON the page can parse (' + e.message + ')');
-            }
-            D = fromJson(res);
-        }
+        const D = await readAnswer(resp, m.binary);
         const ms = performance.now() - t0;
         if (abort.signal.aborted) return;
         const G = prepare(D, m.nColours);

@@ -21,6 +21,8 @@
 #include <cmocka.h>
 #include <zlib.h>
 
+#include "../support/squeeze.h"
+
 #include "harness.h"
 
 static it_daemon d;
@@ -165,26 +167,6 @@ static void test_long_request_lines_and_heads(void **state) {
     it_free(&r);
 }
 
-/* in compressed with zlib: format 0 gzip, 1 zlib, 2 raw deflate. */
-static unsigned char *compress_as(const void *in, size_t n, int format,
-                                  size_t *out_len) {
-    z_stream z;
-    memset(&z, 0, sizeof z);
-    int bits = format == 0 ? 15 + 16 : format == 1 ? 15 : -15;
-    assert_int_equal(deflateInit2(&z, 9, Z_DEFLATED, bits, 8,
-                                  Z_DEFAULT_STRATEGY), Z_OK);
-    size_t cap = deflateBound(&z, (uLong)n) + 64;
-    unsigned char *out = malloc(cap);
-    z.next_in = (Bytef *)in;
-    z.avail_in = (uInt)n;
-    z.next_out = out;
-    z.avail_out = (uInt)cap;
-    assert_int_equal(deflate(&z, Z_FINISH), Z_STREAM_END);
-    *out_len = z.total_out;
-    deflateEnd(&z);
-    return out;
-}
-
 /* POST /voronoi with a Content-Encoding through libcurl (which sends
  * the body as given). */
 static void post_encoded(const char *coding, const void *body, size_t len,
@@ -222,7 +204,7 @@ static void test_content_encoding(void **state) {
     static const int formats[] = {0, 1, 2, 0};
     for (int f = 0; f < 4; f++) {
         size_t zn;
-        unsigned char *z = compress_as(plain, n, formats[f], &zn);
+        unsigned char *z = vt_squeeze(plain, n, formats[f], &zn);
         it_resp r;
         post_encoded(names[f], z, zn, &r);
         if (r.status != 200)
@@ -235,8 +217,8 @@ static void test_content_encoding(void **state) {
     }
     /* Two gzip members one after the other are one body. */
     size_t h = n / 2, z1n, z2n;
-    unsigned char *z1 = compress_as(plain, h, 0, &z1n);
-    unsigned char *z2 = compress_as(plain + h, n - h, 0, &z2n);
+    unsigned char *z1 = vt_squeeze(plain, h, 0, &z1n);
+    unsigned char *z2 = vt_squeeze(plain + h, n - h, 0, &z2n);
     unsigned char *both = malloc(z1n + z2n);
     memcpy(both, z1, z1n);
     memcpy(both + z1n, z2, z2n);

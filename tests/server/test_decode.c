@@ -12,6 +12,8 @@
 #include <cmocka.h>
 #include <zlib.h>
 
+#include "../support/squeeze.h"
+
 #include "../../server/decode.h"
 
 typedef struct sink {
@@ -28,26 +30,6 @@ static int put(void *ctx, const char *data, size_t n) {
     memcpy(s->p + s->n, data, n);
     s->n += n;
     return 0;
-}
-
-/* format 0 gzip, 1 zlib, 2 raw deflate */
-static unsigned char *squeeze(const void *in, size_t n, int format,
-                              size_t *out_len) {
-    z_stream z;
-    memset(&z, 0, sizeof z);
-    int bits = format == 0 ? 31 : format == 1 ? 15 : -15;
-    assert_int_equal(deflateInit2(&z, 6, Z_DEFLATED, bits, 8,
-                                  Z_DEFAULT_STRATEGY), Z_OK);
-    size_t cap = deflateBound(&z, (uLong)n) + 32;
-    unsigned char *out = malloc(cap);
-    z.next_in = (Bytef *)in;
-    z.avail_in = (uInt)n;
-    z.next_out = out;
-    z.avail_out = (uInt)cap;
-    assert_int_equal(deflate(&z, Z_FINISH), Z_STREAM_END);
-    *out_len = z.total_out;
-    deflateEnd(&z);
-    return out;
 }
 
 static char *sample(size_t n) {
@@ -79,7 +61,7 @@ static void test_round_trips(void **state) {
     for (int format = 0; format < 3; format++) {
         for (int bytewise = 0; bytewise < 2; bytewise++) {
             size_t zn;
-            unsigned char *z = squeeze(plain, n, format, &zn);
+            unsigned char *z = vt_squeeze(plain, n, format, &zn);
             srv_decoder *d = srv_decoder_new(
                 format == 0 ? SRV_CODING_GZIP : SRV_CODING_DEFLATE, n);
             assert_non_null(d);
@@ -101,8 +83,8 @@ static void test_round_trips(void **state) {
     }
     /* Two gzip members are one body. */
     size_t an, bn;
-    unsigned char *a = squeeze(plain, 1000, 0, &an);
-    unsigned char *b = squeeze(plain + 1000, 2000, 0, &bn);
+    unsigned char *a = vt_squeeze(plain, 1000, 0, &an);
+    unsigned char *b = vt_squeeze(plain + 1000, 2000, 0, &bn);
     unsigned char *ab = malloc(an + bn);
     memcpy(ab, a, an);
     memcpy(ab + an, b, bn);
@@ -128,7 +110,7 @@ static void test_limit_and_corruption(void **state) {
     size_t big = 64u << 20;
     char *zeros = calloc(1, big);
     size_t zn;
-    unsigned char *z = squeeze(zeros, big, 0, &zn);
+    unsigned char *z = vt_squeeze(zeros, big, 0, &zn);
     free(zeros);
     srv_decoder *d = srv_decoder_new(SRV_CODING_GZIP, 100000);
     sink s = {0};
@@ -159,7 +141,7 @@ static void test_limit_and_corruption(void **state) {
     free(s.p);
 
     /* Garbage after a deflate stream. */
-    unsigned char *y = squeeze("abc", 3, 1, &zn);
+    unsigned char *y = vt_squeeze("abc", 3, 1, &zn);
     unsigned char *yy = malloc(zn + 3);
     memcpy(yy, y, zn);
     memcpy(yy + zn, "xyz", 3);
