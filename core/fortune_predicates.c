@@ -484,7 +484,7 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  * Errors, against the exact values for the exact differences:
  *   d:  |d~ - d| <= ed = 4 eps (|bx cy| + |by cx|)   (Shewchuk's orient2d
  *       bound (3 + 16 eps) eps, with room for rounding the bound), or
- *       ed = 4 eps |d~| for exact differences (see the code);
+ *       about 4 eps |d~| when d cancels (recomputed, see the code);
  *   nx: |nx~ - nx| <= enx = 8 eps (|cy |b|^2| + |by |c|^2|) (as F above);
  *   ux: with ed <= |d~| / 2 (else no bound is attempted), |d| >= |d~| / 2 and
  *       |nx~/d~ - nx/d| <= enx/|d~| + (|nx~| + enx) ed / (|d~| |d|), so
@@ -507,10 +507,10 @@ int vor__fortune_bp_poly_slow(const double *a, const double *b,
  * test passes) and the result scaled back, with an absolute 2^-1060 for a
  * possible underflow there. Overflow makes a value inf or nan, which the
  * final test turns into "no bound". */
-/* 1 if fl(p - q) = p - q: the error term of two_diff is zero. */
-static inline int diff_exact(double p, double q) {
+/* (p - q) - fl(p - q), exactly (the error term of two_diff). */
+static inline double diff_err(double p, double q) {
     double x = p - q, bv = p - x, av = x + bv;
-    return (p - av) + (bv - q) == 0;
+    return (p - av) + (bv - q);
 }
 
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
@@ -532,20 +532,29 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     double ed = 0x1p-51 * (fabs(l) + fabs(r));
     double ad = fabs(d);
     /* Nearly collinear sites: d cancels and its bound dominates every
-     * later one. When the four differences are exact (close sites, by
-     * Sterbenz's lemma; a rescaling by a power of two keeps them so), d is
-     * recomputed with a relative error of at most 2u = 2^-52 by Kahan's
-     * fma algorithm for l - r (Jeannerod, Louvet and Muller, 2013): the
-     * product's error r - by cx is exact, and bx cy - r rounds once. The
-     * interval then shrinks by the factor d's relative error does: the
-     * neighbouring tops of sites on a circle, a few ulps apart after
-     * rounding, separate instead of all overlapping. */
-    if (ad < 0x1p-10 * (fabs(l) + fabs(r)) && diff_exact(b[0], a[0]) &&
-        diff_exact(b[1], a[1]) && diff_exact(c[0], a[0]) &&
-        diff_exact(c[1], a[1])) {
-        d = fma(bx, cy, -r) + fma(-by, cx, r);
+     * later one. d is then recomputed with a relative error of about 3u
+     * (u = 2^-53): with the differences' rounding errors from two_diff
+     * (b - a = bx + ebx exactly, before the scaling by 2^-e, which keeps
+     * them exact but for an underflow below 2^-1000), the exact
+     * determinant is D1 + T2 + T3 with D1 = bx cy - by cx, T2 = bx ecy +
+     * ebx cy - by ecx - eby cx and |T3| <= 2u^2 (|l| + |r|). D1 comes from
+     * Kahan's fma algorithm (relative error 2u: Jeannerod, Louvet and
+     * Muller, 2013), T2 in plain doubles (|T2| <= 2u (|l| + |r|), so its
+     * error is below 8u^2 (|l| + |r|)), and their sum rounds once: ed
+     * covers all of it twice over. The interval then shrinks by the factor
+     * d's relative error does: the neighbouring tops of sites on a circle,
+     * a few ulps apart after rounding, separate instead of all
+     * overlapping. */
+    if (ad < 0x1p-10 * (fabs(l) + fabs(r))) {
+        double sc = ldexp(1.0, -e);
+        double ebx = diff_err(b[0], a[0]) * sc, eby = diff_err(b[1], a[1]) * sc;
+        double ecx = diff_err(c[0], a[0]) * sc, ecy = diff_err(c[1], a[1]) * sc;
+        double d1 = fma(bx, cy, -r) + fma(-by, cx, r);
+        double t2 = (bx * ecy + ebx * cy) - (by * ecx + eby * cx);
+        d = d1 + t2;
         ad = fabs(d);
-        ed = 0x1p-51 * ad + 0x1p-1000;
+        ed = 0x1p-51 * (fabs(d1) + ad) + 0x1p-100 * (fabs(l) + fabs(r)) +
+             0x1p-1000;
     }
     /* d is orient2d(a, b, c) with an error below ed (Shewchuk's bound is
      * (3 + 16 eps) eps (|l| + |r|)): its sign is proven when |d| > 2 ed */
