@@ -38,9 +38,6 @@
  * points as `voronoi --generate DIST:N:SEED`, and unit-circle (cos, sin of
  * 2 pi k/n, the same as circle).
  *
- * The allocator is set up as the daemon sets it (server/allocator.h), so
- * that times and peak memory are the service's.
- *
  * Each table case runs in its own process so that one case's heap does not
  * skew the next one's time or memory, and so that a crash or an overlong
  * run (SIGALRM after --limit-s) costs one row, not the run. A case whose
@@ -60,7 +57,6 @@
 
 #include "../core/internal.h"
 #include "../core/vor.h"
-#include "../server/allocator.h"
 #include "../tests/support/testsets.h"
 #include "bench_util.h"
 
@@ -1000,7 +996,6 @@ static void limit_memory(void) {
 int main(int argc, char **argv) {
     opts o;
     limit_memory();
-    srv_tune_allocator(); /* time and memory as the daemon has them */
     if (argc < 2 || parse_opts(argc, argv, &o) != 0) {
         usage();
         return 2;

@@ -8,8 +8,21 @@
  * queued, waits up to --grace for in-flight requests, answers what is left
  * with 503, stops, exits 0. A second signal cuts drain and grace short.
  *
- * The allocator is set up once, before any thread starts (allocator.h).
+ * The allocator is told once, before any thread starts, to keep up to
+ * 16 MiB of free memory per arena rather than give it back to the system
+ * after every request, and to map blocks of their own only from 4 MiB up.
+ * By default glibc trims a thread's heap once 128 KiB lie free at its top
+ * and maps every block from 128 KiB until its adaptive threshold has seen
+ * big ones, so each small request paid for madvise() and the page faults
+ * of memory it had just returned (about a tenth of its time); large
+ * requests still return their memory. Fast bins are turned off: a small
+ * request frees more small blocks than the thread cache keeps (the
+ * libmicrohttpd response headers, allocated with calloc, which bypasses
+ * that cache), so they piled up in fast bins that the answer's first
+ * block of over 1 KiB then had to consolidate: about 950 instructions of
+ * a 10-point request's 122,000, against 400 more in free() without them.
  */
+#include <malloc.h>
 #include <time.h>
 #include <signal.h>
 #include <stdio.h>
@@ -17,7 +30,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "allocator.h"
 #include "config.h"
 #include "server.h"
 
@@ -47,7 +59,13 @@ int main(int argc, char **argv) {
         break;
     }
 
-    srv_tune_allocator();
+#if defined(M_TRIM_THRESHOLD) && defined(M_MMAP_THRESHOLD)
+    mallopt(M_MMAP_THRESHOLD, 4 << 20);
+    mallopt(M_TRIM_THRESHOLD, 16 << 20);
+#endif
+#if defined(M_MXFAST)
+    mallopt(M_MXFAST, 0);
+#endif
 
     sigset_t sigs;
     sigemptyset(&sigs);
