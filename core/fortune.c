@@ -1948,7 +1948,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     /* vertex ids are sweep ranks: the site of rank v is order[v], at
      * lxy[2v] (rescaled by a power of two, which leaves every predicate's
      * sign unchanged) */
-    return vor__mesh_dual(s, &m, lxy, order, out);
+    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run), out);
 
 fail:
     sweep_free(&w);

@@ -121,6 +121,10 @@ typedef struct vor__run {
     vor_counts counts;
     vor_trace_fn trace;
     void *trace_ctx;
+    /* for the tests: the conversion looks for cocircular sites first
+     * (> 0), meets them in its records pass (< 0), or, as always outside
+     * the tests, decides by the counts' exact (0; see vor__mesh_dual) */
+    int cocircular_first;
 } vor__run;
 
 typedef vor_status (*vor__algorithm_run_fn)(const vor_sites *s, vor__run *run,

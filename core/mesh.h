@@ -133,10 +133,20 @@ void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
  * mesh, cocircular sites included. Consumes m
  * (cleared), lxy and order (freed), also on error; on error *out is NULL.
- * O(n) for sites of bounded degree; at its peak about 157 bytes per site,
- * the result included (mesh_dual.c). */
+ * degenerate: the construction needed exact arithmetic (its counts'
+ * `exact`), so that cocircular sites are likely: they are looked for
+ * first, not met halfway through the records (a hint; the result is the
+ * same either way). O(n) for sites of bounded degree; at its peak about
+ * 157 bytes per site, the result included (mesh_dual.c). */
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
-                          uint32_t *order, vor_diagram **out);
+                          uint32_t *order, int degenerate, vor_diagram **out);
+
+/* The degenerate hint of vor__mesh_dual for a run whose construction is
+ * done: its counts' exact, unless a test forces it (vor__run). */
+static inline int vor__cocircular_first(const vor__run *run) {
+    return run->cocircular_first ? run->cocircular_first > 0
+                                 : run->counts.exact > 0;
+}
 
 /* vor__bowyer_watson and vor__flip: the insertion order
  * (vor__insertion_order), the mesh from build, then vor__mesh_dual. Same

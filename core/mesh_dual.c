@@ -584,7 +584,11 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
  * each slot's triangle replaced by its polygon's representative, and with
  * a polygon owned by its smallest site and keyed by the next two: a
  * diagonal is no Voronoi edge (its length is zero), and the polygon is one
- * vertex, whose defining sites are its three smallest. */
+ * vertex, whose defining sites are its three smallest. When the
+ * construction needed exact arithmetic (vor__mesh_dual's degenerate hint),
+ * cocircular sites are likely, and merge_prepare runs first instead, over
+ * every edge: the first pass would otherwise stop wherever it met the
+ * first diagonal (halfway, for 10^5 sites on a circle) and start again. */
 
 static int count(dual *D);
 
@@ -756,7 +760,7 @@ static int alloc_result(dual *D, size_t ne, size_t nr) {
 }
 
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
-                          uint32_t *order, vor_diagram **out) {
+                          uint32_t *order, int degenerate, vor_diagram **out) {
     dual D;
     fan_scratch fan;
     uint32_t small[SMALL_WORDS];
@@ -785,9 +789,13 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     d->cell_edges = xmalloc(d->cell_start[n], sizeof *d->cell_edges);
     D.rwt = xmalloc(d->cell_start[n], sizeof *D.rwt);
     if (!d->cell_edges || !D.rwt) goto done;
-    r = build_records(&D);
+    /* where the construction needed exact arithmetic, the polygons are
+     * looked for at once: a first pass would run up to the first
+     * cocircular edge only to start again (halfway through, for 10^5
+     * sites on a circle) */
+    r = degenerate ? PASS_COCIRCULAR : build_records(&D);
     if (r == PASS_COCIRCULAR) { /* again, with the polygons merged */
-        restore_adj(&D);
+        if (!degenerate) restore_adj(&D);
         r = merge_prepare(&D);
         if (r == PASS_OK) r = build_records(&D);
         free(D.cc);
@@ -883,5 +891,5 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
         free(order);
         return r;
     }
-    return vor__mesh_dual(s, &m, lxy, order, out);
+    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run), out);
 }

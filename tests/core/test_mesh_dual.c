@@ -10,7 +10,10 @@
  * second pass that restores the mesh and merges cocircular triangles into
  * polygons), fans of more
  * sites than the walks and small sorts handle inline, and every allocation
- * failing in turn on both paths. Seeds are fixed and printed.
+ * failing in turn on both paths. Every set also runs with the
+ * conversion's hint forced both ways (look for cocircular sites first, or
+ * meet them in the records pass), Fortune's sweep included, and must give
+ * the same diagram. Seeds are fixed and printed.
  */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -30,12 +33,36 @@ typedef struct algo {
     const char *name;
     vor_status (*diagram)(const vor_sites *s, vor_diagram **out);
     vor_status (*mesh)(const vor_sites *s, vor__mesh *m);
+    vor__algorithm_run_fn run;
 } algo;
 
 static const algo algos[] = {
-    {"bowyer-watson", vor__bowyer_watson, vor__bowyer_watson_mesh},
-    {"flip", vor__flip, vor__flip_mesh},
+    {"bowyer-watson", vor__bowyer_watson, vor__bowyer_watson_mesh,
+     vor__bowyer_watson_run},
+    {"flip", vor__flip, vor__flip_mesh, vor__flip_run},
+    {"fortune", vor__fortune, NULL, vor__fortune_run},
 };
+
+/* The conversion with its hint forced both ways (vor__run's
+ * cocircular_first: look for cocircular sites first, or meet them in the
+ * records pass and start again) gives the same diagram as ref. */
+static void expect_hint_free(const vor_sites *s, const char *what,
+                             const algo *a, const vor_diagram *ref) {
+    for (int h = -1; h <= 1; h += 2) {
+        vor__run run;
+        memset(&run, 0, sizeof run);
+        run.cocircular_first = h;
+        vor_diagram *d = NULL;
+        assert_int_equal(a->run(s, &run, &d), VOR_OK);
+        if (!vor_diagram_equal(d, ref)) {
+            print_error("%s, %s: the conversion %s cocircular sites first "
+                        "differs\n", what, a->name, h > 0 ? "looking for" :
+                        "not looking for");
+            fail();
+        }
+        vor_diagram_free(d);
+    }
+}
 
 static vor_sites *sites_of(const double *xy, size_t n) {
     vor_sites *s = NULL;
@@ -60,7 +87,7 @@ static size_t max_degree(const vor_diagram *d) {
 static vor_diagram *expect_same(const vor_sites *s, const char *what,
                                 size_t check_max, int keep) {
     vor_diagram *last = NULL;
-    for (size_t a = 0; a < sizeof algos / sizeof *algos; a++) {
+    for (size_t a = 0; algos[a].mesh; a++) {
         vor_diagram *fast = NULL, *ref = NULL;
         vor__mesh m = {0};
         vor_status st = algos[a].diagram(s, &fast);
@@ -82,10 +109,14 @@ static vor_diagram *expect_same(const vor_sites *s, const char *what,
             print_error("%s, %s: vor_check: %s\n", what, algos[a].name, msg);
             fail();
         }
+        expect_hint_free(s, what, &algos[a], ref);
         vor_diagram_free(ref);
         vor_diagram_free(last);
         last = fast;
     }
+    /* Fortune's sweep, through the same conversion: its own diagram must
+     * be the others' (test_crosscheck), either way */
+    expect_hint_free(s, what, &algos[2], last);
     if (!keep) {
         vor_diagram_free(last);
         last = NULL;
@@ -235,25 +266,33 @@ static void test_allocation_failures(void **state) {
     free(u);
     free(g);
     free(v);
-    for (size_t a = 0; a < sizeof algos / sizeof *algos; a++) {
-        for (int k = 0; k < 3; k++) {
+    /* hint 0 as always; -1: the records pass meets the grid's
+     * cocircular squares and starts again (vor__run's cocircular_first) */
+    for (size_t a = 0; algos[a].mesh; a++) {
+        for (int k = 0; k < 4; k++) {
+            const int set = k < 3 ? k : 1, hint = k < 3 ? 0 : -1;
             long i;
             for (i = 0;; i++) {
                 vor_diagram *d = (vor_diagram *)1;
+                vor__run run;
+                memset(&run, 0, sizeof run);
+                run.cocircular_first = hint;
                 fault_arm(i);
-                vor_status st = algos[a].diagram(sets[k], &d);
+                vor_status st = algos[a].run(sets[set], &run, &d);
                 fault_disarm();
                 if (st == VOR_OK) {
                     char msg[128] = "";
-                    assert_int_equal(vor_check(d, sets[k], msg, sizeof msg), 0);
+                    assert_int_equal(vor_check(d, sets[set], msg, sizeof msg),
+                                     0);
                     vor_diagram_free(d);
                     break;
                 }
                 assert_int_equal(st, VOR_ENOMEM);
                 assert_null(d);
             }
-            printf("  %s, %s: %ld allocations failed in turn\n", algos[a].name,
-                   set_names[k], i);
+            printf("  %s, %s%s: %ld allocations failed in turn\n",
+                   algos[a].name, set_names[set],
+                   hint ? ", met in the records" : "", i);
             assert_true(i >= 12);
         }
     }
