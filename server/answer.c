@@ -95,14 +95,20 @@ void srv__problem_reply(srv_reply *r, const api_problem *p,
     r->body = api_buf_take(&b, &r->len);
 }
 
+/* A problem of the code, its detail formatted from fmt. */
+__attribute__((format(printf, 3, 0))) static void
+problem_vset(api_problem *p, api_code code, const char *fmt, va_list ap) {
+    memset(p, 0, sizeof *p);
+    p->code = code;
+    vsnprintf(p->detail, sizeof p->detail, fmt, ap);
+}
+
 void srv__problemf(srv_reply *r, const char *instance, api_code code,
                    const char *fmt, ...) {
     api_problem p;
-    memset(&p, 0, sizeof p);
-    p.code = code;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    problem_vset(&p, code, fmt, ap);
     va_end(ap);
     srv__problem_reply(r, &p, instance);
 }
@@ -285,12 +291,10 @@ enum MHD_Result srv__send_problem(srv_req *q, struct MHD_Connection *conn,
                                   int retry_after, const char *fmt, ...) {
     api_problem p;
     srv_reply r;
-    memset(&p, 0, sizeof p);
     memset(&r, 0, sizeof r);
-    p.code = code;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(p.detail, sizeof p.detail, fmt, ap);
+    problem_vset(&p, code, fmt, ap);
     va_end(ap);
     char inst[256];
     srv__printable(inst, sizeof inst, q->path, 200);
