@@ -1454,7 +1454,7 @@ static void to_heap(sweep *w) {
             heap_put(w, n++, w->ekey[r]);
     }
     for (uint32_t i = n / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
-    free(w->bhead);
+    vor__scratch_free(w->bhead);
     w->bhead = NULL;
 }
 
@@ -1812,7 +1812,7 @@ static void sweep_free(sweep *w) {
     free(w->arcs);
     free(w->red);
     free(w->rec_block);
-    free(w->bhead);
+    vor__scratch_free(w->bhead);
     free(w->ymap.block);
     free(w->ymap.grid);
     free(w->ehe);
@@ -1915,7 +1915,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
         /* one bucket per site, if the sites' y range has a width */
         w.n_buckets = (uint32_t)w.n;
         w.budget = 64 * (size_t)BUCKET_READS;
-        w.bhead = malloc(w.n_buckets * sizeof *w.bhead);
+        w.bhead = vor__scratch_new(w.n_buckets, sizeof *w.bhead);
         if (!w.bhead) goto fail;
         memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */
     }

@@ -76,6 +76,15 @@ void vor__bbox(const double *xy, size_t n, double box[4]);
 void *vor__alloc_large(size_t count, size_t size);
 /* The same, zeroed (calloc: a fresh mapping is not written twice). */
 void *vor__calloc_large(size_t count, size_t size);
+/* A zeroed scratch array that dies before the computation's peak (NULL on
+ * overflow or failure; free with vor__scratch_free, which takes NULL). A
+ * block of 1 MiB or more is a mapping of its own, whose pages go back to
+ * the kernel when it is freed: from the C library's heap, a block freed
+ * below newer ones stays resident as a hole that the later, bigger arrays
+ * do not fit in (4 bytes a site each for the conversion's degree counts
+ * and Fortune's event buckets, at 10^6 sites). Smaller ones are calloc's. */
+void *vor__scratch_new(size_t count, size_t size);
+void vor__scratch_free(void *p);
 
 /* ---- Spatial order (core/hilbert.c) --------------------------------------
  * Fills order[0..n-1] with the site indices 0..n-1 in an order suited to

@@ -79,6 +79,53 @@ void *vor__calloc_large(size_t count, size_t size) {
     return p;
 }
 
+/* A scratch block starts with this header, which says how it was made;
+ * the caller's array follows at SCRATCH_HEAD bytes (16: malloc's
+ * alignment). */
+#define SCRATCH_HEAD 16
+#define SCRATCH_MAP ((size_t)1 << 20)
+
+void *vor__scratch_new(size_t count, size_t size) {
+    if (count == 0)
+        count = 1;
+    if (count > (SIZE_MAX - SCRATCH_HEAD) / size)
+        return NULL;
+    size_t bytes = SCRATCH_HEAD + count * size;
+    unsigned char *p = NULL;
+#if defined(MAP_ANONYMOUS)
+    if (bytes >= SCRATCH_MAP) {
+        void *m = mmap(NULL, bytes, PROT_READ | PROT_WRITE,
+                       MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (m == MAP_FAILED)
+            return NULL;
+        p = m; /* zeroed by the kernel */
+        advise_huge(p, bytes);
+    }
+#endif
+    if (!p) {
+        if (!(p = calloc(1, bytes)))
+            return NULL;
+        bytes = 0; /* the C library's */
+    }
+    memcpy(p, &bytes, sizeof bytes);
+    return p + SCRATCH_HEAD;
+}
+
+void vor__scratch_free(void *q) {
+    if (!q)
+        return;
+    unsigned char *p = (unsigned char *)q - SCRATCH_HEAD;
+    size_t bytes;
+    memcpy(&bytes, p, sizeof bytes);
+#if defined(MAP_ANONYMOUS)
+    if (bytes) {
+        (void)munmap(p, bytes);
+        return;
+    }
+#endif
+    free(p);
+}
+
 /* ---- Start ---------------------------------------------------------------
  *
  * The first triangle a, b, c (counter-clockwise) in slot 0 and one ghost per

@@ -686,7 +686,7 @@ static int count(dual *D) {
     if (D->small) {
         deg = D->small + n;
         memset(deg, 0, n * sizeof *deg);
-    } else if (!(deg = vor__calloc_large(n, sizeof *deg))) {
+    } else if (!(deg = vor__scratch_new(n, sizeof *deg))) {
         return PASS_NOMEM;
     }
     size_t h = 0;
@@ -717,7 +717,7 @@ static int count(dual *D) {
     }
     D->h = h;
     for (size_t v = 0; v < n; v++) cs[order[v]] = deg[v];
-    if (!D->small) free(deg);
+    if (!D->small) vor__scratch_free(deg);
     size_t nc = 0;
     for (size_t i = 0; i < n; i++) {
         uint32_t k = cs[i];

@@ -299,6 +299,33 @@ static void test_allocation_failures(void **state) {
     for (int k = 0; k < 3; k++) vor_sites_free(sets[k]);
 }
 
+/* Scratch arrays: zeroed and writable on both sides of the size at which
+ * they become mappings of their own; an allocation failure shows as NULL
+ * for the small kind (the C library's), and an impossible size as NULL
+ * for both. */
+static void test_scratch(void **state) {
+    (void)state;
+    const size_t counts[] = {0, 1, 1000, (1u << 18) - 4, 1u << 18, 3u << 20};
+    for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
+        size_t k = counts[c] ? counts[c] : 1;
+        uint32_t *a = vor__scratch_new(counts[c], sizeof *a);
+        assert_non_null(a);
+        assert_int_equal((uintptr_t)a % 16, 0);
+        for (size_t i = 0; i < k; i++) {
+            assert_int_equal(a[i], 0);
+            a[i] = (uint32_t)i;
+        }
+        for (size_t i = 0; i < k; i += 4099) assert_int_equal(a[i], i);
+        vor__scratch_free(a);
+    }
+    vor__scratch_free(NULL);
+    assert_null(vor__scratch_new(SIZE_MAX / 8, 16));
+    fault_arm(0);
+    void *p = vor__scratch_new(10, 4);
+    fault_disarm();
+    assert_null(p);
+}
+
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_standard_sets),
@@ -306,6 +333,7 @@ int main(void) {
         cmocka_unit_test(test_cocircular),
         cmocka_unit_test(test_high_degree),
         cmocka_unit_test(test_allocation_failures),
+        cmocka_unit_test(test_scratch),
     };
     return cmocka_run_group_tests_name("core/mesh_dual", tests, NULL, NULL);
 }
