@@ -78,12 +78,14 @@
  * coordinates and order freed, the records, vid (8) and the result
  * without its coordinates (about 101), which come last when everything
  * else is freed: 157 bytes per site at the peak, plus what the allocator
- * keeps. The mesh's adjacency array becomes the vertex sites, the
- * coordinates in insertion order vid, and the records' block the
- * coordinates: at 10^6 sites each such array is a
- * fresh mapping that the kernel faults in and zeroes on first touch (a
- * tenth of a cold run), and reusing pages already touched spares 56 of
- * the 281 bytes per site so faulted in. Small diagrams (up to about 120
+ * keeps. The mesh's adjacency array becomes the vertex sites, its
+ * triangle array the edge sites, the coordinates in insertion order vid,
+ * and the records' block the coordinates: at 10^6 sites each such array
+ * is a fresh mapping that the kernel faults in and zeroes on first touch
+ * (a tenth of a cold run; on a virtual machine whose host takes back
+ * freed memory, a first touch can cost 2.5 ns a byte, half a cold run),
+ * and reusing pages already touched spares 80 of the 281 bytes per site
+ * so faulted in. Small diagrams (up to about 120
  * sites) keep outl, vid and the degree counts, and every diagram the
  * scratch of its first fans, in vor__mesh_dual's frame (6 KiB): for a
  * 10-site request the allocator's calls were a fifth of this file's
@@ -745,10 +747,13 @@ static void *reuse(void *p, size_t count, size_t size) {
 }
 
 /* The output arrays sized for ne edges and nr rays (cell_start,
- * cell_edges and vertex_sites are allocated by the caller). */
-static int alloc_result(dual *D, size_t ne, size_t nr) {
+ * cell_edges and vertex_sites are allocated by the caller); the edge
+ * sites are made of the mesh's triangle block *tri (as many words less
+ * two per hull edge), which is then the result's. */
+static int alloc_result(dual *D, uint32_t **tri, size_t ne, size_t nr) {
     vor_diagram *d = D->d;
-    d->edge_sites = xmalloc(2 * ne, sizeof *d->edge_sites);
+    if ((d->edge_sites = reuse(*tri, 2 * ne, sizeof *d->edge_sites)))
+        *tri = NULL;
     d->edge_ends = xmalloc(2 * ne, sizeof *d->edge_ends);
     d->ray_edge = xmalloc(nr, sizeof *d->ray_edge);
     d->ray_dir = xmalloc(2 * nr, sizeof *d->ray_dir);
@@ -808,8 +813,8 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     const size_t nvmax = D.min3 ? D.n_poly : T - D.h,
                  nemax = d->cell_start[n] / 2, nrmax = D.h;
     if (r == PASS_OK) {
-        /* the mesh is no longer needed: its arrays become vid and the
-         * vertex sites */
+        /* the mesh is no longer needed: its arrays become the vertex
+         * sites and (in alloc_result) the edge sites */
         D.tri = NULL;
         D.adj = NULL;
         D.lxy = NULL;
@@ -821,7 +826,6 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         if (!(d->vertex_sites = reuse(m->adj, 3 * nvmax, sizeof *d->vertex_sites)))
             goto done;
         m->adj = NULL;
-        vor__mesh_clear(m);
         /* vid is made of lxy's block (16 bytes a site, vid needs about
          * 8), whose pages are touched already: not of tri's, which would
          * stay resident beside it, nor a fresh block, whose pages the
@@ -835,7 +839,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
             goto done;
         }
         lxy = NULL;
-        if (alloc_result(&D, nemax, nrmax) != PASS_OK) goto done;
+        if (alloc_result(&D, &m->tri, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
     }
