@@ -311,6 +311,23 @@ static void test_bp_side_on_circle(void **state) {
     assert_int_equal(vor__fortune_bp_side(a, c, m2, 1), 1);
 }
 
+/* The top of the circle through t lies within err of th + tl, exactly. */
+static void check_dd_top(double t[3][2], double th, double tl, double err) {
+    mpq_t X, Y, R2, c, e, z;
+    mpq_inits(X, Y, R2, c, e, z, NULL);
+    q_circle(t[0], t[1], t[2], X, Y, R2);
+    mpq_set_d(c, th);
+    mpq_set_d(e, tl);
+    mpq_add(c, c, e);
+    mpq_set_d(e, err);
+    mpq_sub(c, c, e); /* lower end */
+    assert_true(q_cmp_sum_sqrt(Y, R2, c, z) >= 0);
+    mpq_add(c, c, e);
+    mpq_add(c, c, e); /* upper end */
+    assert_true(q_cmp_sum_sqrt(Y, R2, c, z) <= 0);
+    mpq_clears(X, Y, R2, c, e, z, NULL);
+}
+
 static void test_circle_top_bounds(void **state) {
     (void)state;
     uint64_t seed = 202;
@@ -341,21 +358,8 @@ static void test_circle_top_bounds(void **state) {
         double th, tl, err;
         if (in_safe_range(t[0]) && in_safe_range(t[1]) && in_safe_range(t[2]) &&
             vor__fortune_circle_top_dd(t[0], t[1], t[2], &th, &tl, &err)) {
-            /* T within err of th + tl, exactly */
             dd_ok++;
-            mpq_t X, Y, R2, c, e, z;
-            mpq_inits(X, Y, R2, c, e, z, NULL);
-            q_circle(t[0], t[1], t[2], X, Y, R2);
-            mpq_set_d(c, th);
-            mpq_set_d(e, tl);
-            mpq_add(c, c, e);
-            mpq_set_d(e, err);
-            mpq_sub(c, c, e); /* lower end */
-            assert_true(q_cmp_sum_sqrt(Y, R2, c, z) >= 0);
-            mpq_add(c, c, e);
-            mpq_add(c, c, e); /* upper end */
-            assert_true(q_cmp_sum_sqrt(Y, R2, c, z) <= 0);
-            mpq_clears(X, Y, R2, c, e, z, NULL);
+            check_dd_top(t, th, tl, err);
         }
     }
     /* the filters must be useful, not just safe */
@@ -393,6 +397,67 @@ static void test_circle_top_bounds(void **state) {
     print_message("circle_top: %d of %d intervals on circles within "
                   "2^-40 relative\n", tight, tried);
     assert_true(tight > tried * 9 / 10);
+
+    /* two close sites of one row and a site of the next, above or below:
+     * the centre is nearly below or above the pair, its x error large
+     * (nx cancels) but of little weight in the top */
+    tight = tried = 0;
+    int dd_tried = 0;
+    for (int it = 0; it < 20000; it++) {
+        double gap = ldexp(1.0, (int)(vt_next(&r) % 40) - 20);
+        double y0 = gap * (double)(vt_next(&r) % 1000);
+        double x0 = gap * ((double)(vt_next(&r) % 1000000) / 1000.0);
+        double dx = gap * ldexp(1.0 + (double)(vt_next(&r) % 1000) / 1000.0,
+                                -(int)(vt_next(&r) % 30) - 3);
+        double side = vt_next(&r) % 2 ? gap : -gap;
+        double t[3][2] = {{x0, y0},
+                          {x0 + dx, y0},
+                          {x0 + dx * ((double)(vt_next(&r) % 200) / 100.0 - 0.5),
+                           y0 + side}};
+        int o = vor_orient2d(t[0], t[1], t[2]);
+        if (o == 0) continue;
+        if (o < 0) { /* converging order: swap the pair */
+            double sw[2] = {t[0][0], t[0][1]};
+            t[0][0] = t[1][0], t[0][1] = t[1][1];
+            t[1][0] = sw[0], t[1][1] = sw[1];
+        }
+        /* each rotation, the lone site first among them (the sweep
+         * meets all three) */
+        for (int rot = 0; rot < 3; rot++) {
+            double u[3][2];
+            for (int k = 0; k < 3; k++) {
+                u[k][0] = t[(k + 2 + rot) % 3][0];
+                u[k][1] = t[(k + 2 + rot) % 3][1];
+            }
+            for (int safe = 0; safe < 2; safe++) {
+                if (safe && !(in_safe_range(u[0]) && in_safe_range(u[1]) &&
+                              in_safe_range(u[2])))
+                    continue;
+                double lo, hi;
+                assert_int_equal(
+                    vor__fortune_circle_top(u[0], u[1], u[2], safe, &lo, &hi),
+                    1);
+                if (!isfinite(lo)) continue;
+                tried++;
+                tight += hi - lo <= 0x1p-40 * fabs(lo) + 0x1p-1000;
+                assert_true(q_top_vs(u[0], u[1], u[2], lo) >= 0);
+                assert_true(q_top_vs(u[0], u[1], u[2], hi) <= 0);
+            }
+        }
+        double th, tl, err;
+        double v[3][2] = {{t[2][0], t[2][1]}, {t[0][0], t[0][1]},
+                          {t[1][0], t[1][1]}};
+        if (in_safe_range(v[0]) && in_safe_range(v[1]) && in_safe_range(v[2]) &&
+            vor__fortune_circle_top_dd(v[0], v[1], v[2], &th, &tl, &err)) {
+            dd_tried++;
+            check_dd_top(v, th, tl, err);
+        }
+    }
+    print_message("circle_top: %d of %d intervals on rows within "
+                  "2^-40 relative, %d double-double\n", tight, tried,
+                  dd_tried);
+    assert_true(tight > tried * 9 / 10);
+    assert_true(dd_tried > 5000);
 }
 
 static void test_site_first(void **state) {
