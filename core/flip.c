@@ -419,7 +419,7 @@ static vor_status legalise(flipper *st, uint32_t p) {
         assert(a != VOR__GHOST && b != VOR__GHOST);
         tests++;
         if (vor__incircle_static_n(XY(a), XY(b), pp, XY(d), st->w.icc,
-                                   &st->w.exact) <= 0)
+                                   &st->w.exact, &st->w.cocircular) <= 0)
             continue;
         if (n + 2 > st->cap) {
             st->n = n;

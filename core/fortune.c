@@ -171,6 +171,7 @@ typedef struct sweep {
     uint32_t *orig; /* n: site index of each sorted site */
     int safe;       /* coordinates in the filters' range */
     int lattice;    /* few bits per coordinate: equal tops are common */
+    uint64_t equal_tops; /* ties of two events' tops found equal */
 
     arc *arcs;
     uint8_t *red;    /* colour of each arc */
@@ -1268,15 +1269,21 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
         if (c != 0) return c < 0;
     }
     if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) && e1[1] == e2[1] &&
-        e1[2] == e2[2])
-        return e1[0] != e2[0] ? e1[0] < e2[0] : r1 < r2;
+        e1[2] == e2[2]) {
+        if (e1[0] != e2[0]) return e1[0] < e2[0];
+        w->equal_tops++;
+        return r1 < r2;
+    }
     const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;
     const double *a1 = site_xy(w, t1[0]), *b1 = site_xy(w, t1[1]),
                  *c1 = site_xy(w, t1[2]);
     const double *a2 = site_xy(w, t2[0]), *b2 = site_xy(w, t2[1]),
                  *c2 = site_xy(w, t2[2]);
-    if (vor__fortune_translated(a1, b1, c1, a2, b2, c2))
-        return a1[0] != a2[0] ? a1[0] < a2[0] : r1 < r2;
+    if (vor__fortune_translated(a1, b1, c1, a2, b2, c2)) {
+        if (a1[0] != a2[0]) return a1[0] < a2[0];
+        w->equal_tops++;
+        return r1 < r2;
+    }
     if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
         int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
         if (c != 0) return c < 0;
@@ -1285,7 +1292,9 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     w->cnt.event_exact++;
     if (!vor__fortune_circle_cmp_small(a1, b1, c1, a2, b2, c2, &c))
         c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
-    return c != 0 ? c < 0 : r1 < r2;
+    if (c != 0) return c < 0;
+    w->equal_tops++;
+    return r1 < r2;
 }
 
 /* 1 if event x comes strictly before event y in sweep order. Exact: the
@@ -1867,6 +1876,8 @@ static void count(const sweep *w, vor__run *run) {
     vor__counts_add(&run->counts, &w->cnt);
     run->counts.exact += w->cnt.breakpoint_exact + w->cnt.circle_top_exact +
                          w->cnt.event_exact;
+    run->cocircular_signs +=
+        w->cnt.event_exact + w->equal_tops + (uint64_t)w->lattice;
 }
 
 vor_status vor__fortune_run(const vor_sites *s, vor__run *run,

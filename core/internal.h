@@ -130,9 +130,17 @@ typedef struct vor__run {
     vor_counts counts;
     vor_trace_fn trace;
     void *trace_ctx;
+    /* signs of cocircular sites that the construction met: incircle tests
+     * that found four (Bowyer-Watson, flip); ties of circle tops that
+     * needed exact arithmetic or were proven equal, and a lattice
+     * (Fortune). Not exact arithmetic as such: sites in rows need much
+     * of it, for nearly collinear and nearly cocircular sites, and have
+     * no cocircular four. The conversion looks for cocircular sites
+     * before its records pass when there are any (vor__mesh_dual). */
+    uint64_t cocircular_signs;
     /* for the tests: the conversion looks for cocircular sites first
      * (> 0), meets them in its records pass (< 0), or, as always outside
-     * the tests, decides by the counts' exact (0; see vor__mesh_dual) */
+     * the tests, decides by cocircular_signs (0) */
     int cocircular_first;
 } vor__run;
 

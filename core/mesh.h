@@ -41,6 +41,7 @@ typedef struct vor__walk {
     uint32_t rng;
     double occ, icc;
     uint64_t steps, orient2d, incircle, exact;
+    uint64_t cocircular; /* incircle tests that found four cocircular sites */
 } vor__walk;
 
 /* Non-zero if triangle t is a ghost. */
@@ -117,6 +118,7 @@ static inline void vor__walk_count(const vor__walk *w, vor__run *run) {
     run->counts.orient2d += w->orient2d;
     run->counts.incircle += w->incircle;
     run->counts.exact += w->exact;
+    run->cocircular_signs += w->cocircular;
 }
 
 /* The ORDER and BEGIN steps of an incremental build, reported after
@@ -133,8 +135,8 @@ void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
  * mesh, cocircular sites included. Consumes m
  * (cleared), lxy and order (freed), also on error; on error *out is NULL.
- * degenerate: the construction needed exact arithmetic (its counts'
- * `exact`), so that cocircular sites are likely: they are looked for
+ * degenerate: the construction met signs of cocircular sites (vor__run's
+ * cocircular_signs), so that they are likely: they are looked for
  * first, not met halfway through the records (a hint; the result is the
  * same either way). O(n) for sites of bounded degree; at its peak about
  * 157 bytes per site, the result included (mesh_dual.c). */
@@ -142,10 +144,10 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
                           uint32_t *order, int degenerate, vor_diagram **out);
 
 /* The degenerate hint of vor__mesh_dual for a run whose construction is
- * done: its counts' exact, unless a test forces it (vor__run). */
+ * done: its cocircular_signs, unless a test forces it (vor__run). */
 static inline int vor__cocircular_first(const vor__run *run) {
     return run->cocircular_first ? run->cocircular_first > 0
-                                 : run->counts.exact > 0;
+                                 : run->cocircular_signs > 0;
 }
 
 /* vor__bowyer_watson and vor__flip: the insertion order

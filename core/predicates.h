@@ -254,14 +254,20 @@ vor__incircle_static(const double *a, const double *b, const double *c,
     return r ? r : vor__incircle_fast(a, b, c, d);
 }
 
-/* The counting form (see "Counting forms" above). */
+/* The counting form (see "Counting forms" above), which also adds 1 to
+ * *cocircular when the four points are cocircular (only the exact
+ * evaluation finds a 0: the count costs nothing on the filtered path). */
 static inline __attribute__((always_inline)) int
 vor__incircle_static_n(const double *a, const double *b, const double *c,
-                       const double *d, double s, uint64_t *exact) {
+                       const double *d, double s, uint64_t *exact,
+                       uint64_t *cocircular) {
     int r = vor__incircle_static_filter(a, b, c, d, s);
     if (r) return r;
     r = vor__incircle_filter(a, b, c, d);
-    return r ? r : vor__incircle_counted(a, b, c, d, exact);
+    if (r) return r;
+    r = vor__incircle_counted(a, b, c, d, exact);
+    *cocircular += r == 0;
+    return r;
 }
 
 /* orient2d the same way: |l| + |r| <= 2 M^2, so S = VOR__CCW_BOUND * 4 M^2

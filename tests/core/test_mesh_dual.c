@@ -299,6 +299,50 @@ static void test_allocation_failures(void **state) {
     for (int k = 0; k < 3; k++) vor_sites_free(sets[k]);
 }
 
+/* The hint's source: cocircular sites leave signs in every algorithm's
+ * run (a grid of squares, integer points of a circle), sites in rows
+ * (equal y, random x: much exact arithmetic, no four cocircular) and
+ * uniform ones none. */
+static void test_cocircular_signs(void **state) {
+    (void)state;
+    size_t n_circle = 0;
+    double *circle = vt_int_circle(65, 0, &n_circle); /* 5 * 13: many */
+    double *grid = vt_grid(30, 30), *uni = vt_uniform(3000, 5);
+    double *rows = vt_uniform(3000, 6);
+    assert_non_null(circle);
+    assert_non_null(grid);
+    assert_non_null(uni);
+    assert_non_null(rows);
+    for (size_t i = 0; i < 3000; i++) rows[2 * i + 1] = (double)(i % 12);
+    const struct {
+        const double *xy;
+        size_t n;
+        int signs;
+    } sets[] = {{grid, 900, 1}, {circle, n_circle, 1}, {rows, 3000, 0},
+                {uni, 3000, 0}};
+    for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++) {
+        vor_sites *s = sites_of(sets[k].xy, sets[k].n);
+        for (size_t a = 0; a < sizeof algos / sizeof algos[0]; a++) {
+            vor__run run;
+            memset(&run, 0, sizeof run);
+            vor_diagram *d = NULL;
+            assert_int_equal(algos[a].run(s, &run, &d), VOR_OK);
+            if ((run.cocircular_signs > 0) != sets[k].signs) {
+                print_error("set %zu, %s: %llu signs of cocircular sites\n",
+                            k, algos[a].name,
+                            (unsigned long long)run.cocircular_signs);
+                fail();
+            }
+            vor_diagram_free(d);
+        }
+        vor_sites_free(s);
+    }
+    free(circle);
+    free(grid);
+    free(uni);
+    free(rows);
+}
+
 /* Scratch arrays: zeroed and writable on both sides of the size at which
  * they become mappings of their own; an allocation failure shows as NULL
  * for the small kind (the C library's), and an impossible size as NULL
@@ -334,6 +378,7 @@ int main(void) {
         cmocka_unit_test(test_high_degree),
         cmocka_unit_test(test_allocation_failures),
         cmocka_unit_test(test_scratch),
+        cmocka_unit_test(test_cocircular_signs),
     };
     return cmocka_run_group_tests_name("core/mesh_dual", tests, NULL, NULL);
 }
