@@ -250,7 +250,7 @@ static vor_status insert(bw *st, uint32_t p) {
     cav[ncav++] = (uint32_t)m->n_tri;
     cav[ncav++] = (uint32_t)m->n_tri + 1;
     m->n_tri += 2;
-    uint32_t t = cav[0];
+    uint32_t t = cav[0], start = cav[0];
     for (size_t i = 0; i < nb; i++) {
         uint32_t f = bnd[i];
         uint32_t a = tri[vor__next(f)], b = tri[f];
@@ -263,9 +263,12 @@ static vor_status insert(bw *st, uint32_t p) {
         adj[f] = (int32_t)(3 * t);
         adj[3 * t + 1] = (int32_t)(3 * u + 2);
         adj[3 * u + 2] = (int32_t)(3 * t + 1);
+        if (a == VOR__GHOST || b == VOR__GHOST) start = t; /* p is on the hull */
         t = u;
     }
-    st->w.tri = cav[0];
+    /* the next walk starts beside p, at one of its ghosts if p is on the
+     * hull: the next site of a curve is outside the hull there */
+    st->w.tri = start;
     /* every triangle met but t0 and the marked ones was tested: the
      * cavity's ncav - 3 found ones and the nb boundary ones */
     st->w.incircle += ncav - 3 + nb - ghosts;

@@ -333,7 +333,9 @@ static vor_status hull_insert(flipper *st, uint32_t g, uint32_t p) {
     link(adj, 3 * g0 + 2, (uint32_t)x0);
     link(adj, 3 * g1, outk);
     link(adj, 3 * g1 + 1, (uint32_t)xk);
-    st->w.tri = first / 3;
+    /* the next walk starts at p's ghost: the next site of a curve is
+     * outside the hull there (vor__mesh_locate) */
+    st->w.tri = g0;
     st->created += k + 2;
     if (tracing) {
         /* the fan's triangles (their slots are the ghosts'), then g0, g1 */

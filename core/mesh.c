@@ -220,6 +220,9 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
  *          a ----- b
  *             f (entered through)
  */
+/* Hull edges tried on each side of a ghost the walk starts at. */
+#define HULL_LOOK 2
+
 uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
                           vor__walk *w, int32_t *on_edge) {
     const uint32_t *tri = m->tri;
@@ -230,10 +233,32 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     uint32_t t = w->tri;
     uint64_t steps = 0, tests = 0;
     if (vor__mesh_is_ghost(tri, t)) {
-        /* Start in the finite triangle across the ghost's hull edge. */
+        /* A ghost whose hull edge p is strictly outside of is an answer.
+         * Sites in convex position (on a curve) make that the common case:
+         * each lies just outside the hull, within an edge or two of the
+         * site before, at whose ghost the walk starts (Bowyer-Watson).
+         * So the start's hull edge and HULL_LOOK more on each side are
+         * tried; failing them, the walk starts in the finite triangle
+         * across the start's edge. Hull edge e = x->y of a ghost: the
+         * next one, from y, is next(adj[next(e)]); the one before, to x,
+         * prev(adj[prev(e)]). */
         uint32_t e = 3 * t;
         while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
             e++;
+        uint32_t fw = e, bw = e;
+        for (int i = 0; i <= 2 * HULL_LOOK; i++) {
+            uint32_t h = i == 0 ? e
+                         : (i & 1) ? (fw = vor__next((uint32_t)adj[vor__next(fw)]))
+                                   : (bw = vor__prev((uint32_t)adj[vor__prev(bw)]));
+            tests++;
+            if (vor__orient2d_static_n(XY(tri[h]), XY(tri[vor__next(h)]), pp,
+                                       occ, &w->exact) > 0) {
+                w->tri = h / 3;
+                w->orient2d += tests;
+                *on_edge = -1;
+                return h / 3;
+            }
+        }
         t = (uint32_t)adj[e] / 3;
     }
     /* In the first triangle: an edge p is strictly beyond, or stop. */
@@ -250,11 +275,11 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     }
     if (k == 3) {
         w->tri = t;
-        w->orient2d += 3;
+        w->orient2d += tests + 3;
         *on_edge = zero;
         return t;
     }
-    tests = k + 1;
+    tests += k + 1;
     uint32_t f = (uint32_t)adj[3 * t + k];
     for (;;) {
         uint32_t nf = vor__next(f), pf = vor__prev(f);
