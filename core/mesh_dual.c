@@ -587,10 +587,11 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
  * a polygon owned by its smallest site and keyed by the next two: a
  * diagonal is no Voronoi edge (its length is zero), and the polygon is one
  * vertex, whose defining sites are its three smallest. When the
- * construction needed exact arithmetic (vor__mesh_dual's degenerate hint),
- * cocircular sites are likely, and merge_prepare runs first instead, over
- * every edge: the first pass would otherwise stop wherever it met the
- * first diagonal (halfway, for 10^5 sites on a circle) and start again. */
+ * construction met signs of cocircular sites (vor__mesh_dual's degenerate
+ * hint), they are likely, and merge_prepare runs first instead, over every
+ * edge, and its count is the only one: the first pass would otherwise
+ * stop wherever it met the first diagonal (halfway, for 10^5 sites on a
+ * circle) and start again. */
 
 static int count(dual *D);
 
@@ -746,6 +747,15 @@ static void *reuse(void *p, size_t count, size_t size) {
     return realloc(p, count * size);
 }
 
+/* The records and the cells' edge slots, sized by the counts in
+ * cell_start. */
+static int alloc_records(dual *D) {
+    const size_t slots = D->d->cell_start[D->n];
+    D->d->cell_edges = xmalloc(slots, sizeof *D->d->cell_edges);
+    D->rwt = xmalloc(slots, sizeof *D->rwt);
+    return D->d->cell_edges && D->rwt ? PASS_OK : PASS_NOMEM;
+}
+
 /* The output arrays sized for ne edges and nr rays (cell_start,
  * cell_edges and vertex_sites are allocated by the caller); the edge
  * sites are made of the mesh's triangle block *tri (as many words less
@@ -790,18 +800,18 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     if (!d || !D.outl) goto done;
     d->n_sites = n;
     d->cell_start = xmalloc(n + 1, sizeof *d->cell_start);
-    if (!d->cell_start || count(&D) != PASS_OK) goto done;
-    d->cell_edges = xmalloc(d->cell_start[n], sizeof *d->cell_edges);
-    D.rwt = xmalloc(d->cell_start[n], sizeof *D.rwt);
-    if (!d->cell_edges || !D.rwt) goto done;
-    /* where the construction needed exact arithmetic, the polygons are
-     * looked for at once: a first pass would run up to the first
-     * cocircular edge only to start again (halfway through, for 10^5
-     * sites on a circle) */
-    r = degenerate ? PASS_COCIRCULAR : build_records(&D);
+    if (!d->cell_start) goto done;
+    /* where the construction met signs of cocircular sites, the polygons
+     * are looked for at once (and the cells counted once, without the
+     * diagonals): a first pass would run up to the first cocircular edge
+     * only to start again (halfway through, for 10^5 sites on a circle) */
+    r = degenerate ? PASS_COCIRCULAR : count(&D);
+    if (r == PASS_OK) r = alloc_records(&D);
+    if (r == PASS_OK) r = build_records(&D);
     if (r == PASS_COCIRCULAR) { /* again, with the polygons merged */
         if (!degenerate) restore_adj(&D);
         r = merge_prepare(&D);
+        if (r == PASS_OK && !D.rwt) r = alloc_records(&D);
         if (r == PASS_OK) r = build_records(&D);
         free(D.cc);
         free(D.root);
