@@ -169,6 +169,12 @@ static inline int is_cc(const uint8_t *cc, uint32_t e) {
     return (cc[e >> 3] >> (e & 7)) & 1;
 }
 
+/* 1 if triangle t has a diagonal among its edges: it is part of a polygon
+ * of more than one triangle (every such polygon's triangles have one). */
+static inline int in_polygon(const uint8_t *cc, uint32_t t) {
+    return is_cc(cc, 3 * t) | is_cc(cc, 3 * t + 1) | is_cc(cc, 3 * t + 2);
+}
+
 /* Every array here is big enough to want huge pages (internal.h). */
 static void *xmalloc(size_t count, size_t size) {
     return vor__alloc_large(count, size);
@@ -437,6 +443,7 @@ static int sweep_records(dual *D) {
     uint32_t *rx = d->cell_edges, *vsites = d->vertex_sites, *esites = d->edge_sites;
     int32_t *eends = d->edge_ends;
     const uint32_t *min3 = D->min3;
+    const uint8_t *cc = D->cc;
     size_t nv = 0, ne = 0, nr = 0;
 #define RW(p) ((uint32_t)(rwt[p] >> 32))
 #define RT(p) ((uint32_t)rwt[p])
@@ -465,13 +472,15 @@ static int sweep_records(dual *D) {
             else {
                 ku[nu].key = a;
                 ku[nu++].slot = p - lo;
-                if (!min3) {
-                    if (b > si && t != GHOST_T) {
+                if (t == GHOST_T) {
+                    /* no vertex */
+                } else if (!min3 || !in_polygon(cc, t)) {
+                    if (b > si) { /* a triangle whose smallest site is i */
                         ko[no].key = a < b ? (uint64_t)a << 32 | b
                                            : (uint64_t)b << 32 | a;
                         ko[no++].slot = p - lo;
                     }
-                } else if (t != GHOST_T && min3[3 * (size_t)t] == si) {
+                } else if (min3[3 * (size_t)t] == si) {
                     /* a polygon's owner is its smallest site */
                     ko[no].key = (uint64_t)min3[3 * (size_t)t + 1] << 32 |
                                  min3[3 * (size_t)t + 2];
@@ -639,7 +648,12 @@ static int merge_prepare(dual *D) {
         else if (y < x)
             root[x] = y;
     }
-    /* flatten, count the finite polygons, note their smallest sites */
+    /* flatten, count the finite polygons, note the smallest sites of
+     * those of several triangles (a lone triangle's are its own, which
+     * sweep_records reads off its records): min3 is written only at
+     * their representatives, so that on input with few cocircular sites
+     * (points on a circle: one polygon in 10^6 sites) its pages are
+     * never touched */
     D->min3 = xmalloc(3 * T, sizeof *D->min3);
     if (!D->min3) return PASS_NOMEM;
     uint32_t *min3 = D->min3;
@@ -648,11 +662,10 @@ static int merge_prepare(dual *D) {
         const uint32_t r = root[t] = uf_find(root, (uint32_t)t);
         const uint32_t *v = tri + 3 * t;
         if (((v[0] | v[1] | v[2]) >> 30) != 0) continue; /* ghost */
+        np += r == t;
+        if (!in_polygon(cc, (uint32_t)t)) continue;
         uint32_t *m = min3 + 3 * (size_t)r;
-        if (r == t) {
-            np++;
-            m[0] = m[1] = m[2] = UINT32_MAX;
-        }
+        if (r == t) m[0] = m[1] = m[2] = UINT32_MAX; /* r is the smallest */
         vor__min3_add(m, order[v[0]]);
         vor__min3_add(m, order[v[1]]);
         vor__min3_add(m, order[v[2]]);
@@ -813,9 +826,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         r = merge_prepare(&D);
         if (r == PASS_OK && !D.rwt) r = alloc_records(&D);
         if (r == PASS_OK) r = build_records(&D);
-        free(D.cc);
-        free(D.root);
-        D.cc = NULL;
+        free(D.root); /* cc stays for sweep_records (in_polygon) */
         D.root = NULL;
     }
     /* a vertex per finite polygon (triangle, without cocircular sites), an
@@ -861,6 +872,8 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     D.vid = NULL;
     free(D.min3);
     D.min3 = NULL;
+    free(D.cc);
+    D.cc = NULL;
     vor__mesh_clear(m);
     free(lxy);
     lxy = NULL;
