@@ -152,8 +152,10 @@ typedef struct dual {
     uint32_t *small;
     /* cocircular sites (see "cocircular sites"), all NULL without them:
      * a bit per half-edge set on the diagonals of cocircular polygons;
-     * per triangle, its polygon's representative triangle; per
-     * representative, the polygon's three smallest sites */
+     * per triangle with a diagonal (in_polygon), its polygon's
+     * representative triangle; per representative, the polygon's three
+     * smallest sites. The other triangles are polygons of their own and
+     * leave root and min3 unwritten (and their pages untouched) */
     uint8_t *cc;
     uint32_t *root;
     uint32_t *min3;
@@ -409,8 +411,9 @@ build_records_as(dual *D, const int merge) {
         uint32_t p = cs[si];
         for (size_t c = 0, k = start; c < deg; c++, k = k + 1 == deg ? 0 : k + 1) {
             if (k == ghost || (cc && is_cc(cc, he[k]))) continue;
-            const uint32_t x = (uint32_t)adj[he[k]];
-            rwt[p] = (uint64_t)ws[k] << 32 | (root ? root[he[k] / 3] : he[k] / 3);
+            const uint32_t x = (uint32_t)adj[he[k]], t = he[k] / 3;
+            rwt[p] = (uint64_t)ws[k] << 32 |
+                     (root && in_polygon(cc, t) ? root[t] : t);
             rx[p] = x;
             if (wl[k] > v)
                 adj[x] = (int32_t)p;
@@ -624,8 +627,7 @@ static int merge_prepare(dual *D) {
     D->root = xmalloc(T, sizeof *D->root);
     if (!D->cc || !D->root) return PASS_NOMEM;
     uint8_t *cc = D->cc;
-    uint32_t *root = D->root;
-    for (size_t t = 0; t < T; t++) root[t] = (uint32_t)t;
+    uint32_t *root = D->root; /* set for triangles in polygons only */
     const double icc = vor__incircle_static_bound(vor__span(lxy, n));
     for (uint32_t e = 0; e < 3 * T; e++) {
         const uint32_t f = (uint32_t)adj[e];
@@ -640,9 +642,13 @@ static int merge_prepare(dual *D) {
         int ic = vor__incircle_static(XY(a), XY(b), XY(c), XY(d), icc);
         if (ic > 0) return PASS_BROKEN;
         if (ic < 0) continue;
+        uint32_t x = e / 3, y = f / 3;
+        if (!in_polygon(cc, x)) root[x] = x; /* joins its first polygon */
+        if (!in_polygon(cc, y)) root[y] = y;
         cc[e >> 3] |= (uint8_t)(1u << (e & 7));
         cc[f >> 3] |= (uint8_t)(1u << (f & 7));
-        uint32_t x = uf_find(root, e / 3), y = uf_find(root, f / 3);
+        x = uf_find(root, x);
+        y = uf_find(root, y);
         if (x < y)
             root[y] = x;
         else if (y < x)
@@ -659,11 +665,14 @@ static int merge_prepare(dual *D) {
     uint32_t *min3 = D->min3;
     size_t np = 0;
     for (size_t t = 0; t < T; t++) {
-        const uint32_t r = root[t] = uf_find(root, (uint32_t)t);
         const uint32_t *v = tri + 3 * t;
         if (((v[0] | v[1] | v[2]) >> 30) != 0) continue; /* ghost */
+        if (!in_polygon(cc, (uint32_t)t)) { /* a polygon of its own */
+            np++;
+            continue;
+        }
+        const uint32_t r = root[t] = uf_find(root, (uint32_t)t);
         np += r == t;
-        if (!in_polygon(cc, (uint32_t)t)) continue;
         uint32_t *m = min3 + 3 * (size_t)r;
         if (r == t) m[0] = m[1] = m[2] = UINT32_MAX; /* r is the smallest */
         vor__min3_add(m, order[v[0]]);
