@@ -284,10 +284,11 @@ static vor_status insert(bw *st, uint32_t p) {
  * insertion order; on error nothing is left allocated. */
 static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
                         double **pxy, vor__run *run) {
-    double *xy;
+    double *xy = *pxy; /* a block for the coordinates, if any */
     bw st = {.m = m, .run = run, .order = order};
     *pxy = NULL;
     if (grow(&st)) {
+        free(xy);
         free(st.cav);
         free(st.bnd);
         free(st.lost);

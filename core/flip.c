@@ -470,7 +470,7 @@ static vor_status insert(flipper *st, uint32_t p) {
  * insertion order; on error nothing is left allocated. */
 static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
                         double **pxy, vor__run *run) {
-    double *xy;
+    double *xy = *pxy; /* a block for the coordinates, if any */
     flipper st = {.m = m, .run = run, .order = order,
                   .tracing = run->trace != NULL};
     *pxy = NULL;

@@ -323,6 +323,12 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order) {
 
 vor_status vor__insertion_order_counted(const double *xy, size_t n,
                                         uint32_t *order, vor_counts *counts) {
+    return vor__insertion_order_in(xy, n, order, counts, NULL);
+}
+
+vor_status vor__insertion_order_in(const double *xy, size_t n,
+                                   uint32_t *order, vor_counts *counts,
+                                   uint64_t *scratch) {
     if (n == 0)
         return VOR_OK;
     if (n == 1) {
@@ -348,8 +354,11 @@ vor_status vor__insertion_order_counted(const double *xy, size_t n,
            ((size_t)FIRST_ROUND << (ROUND_BITS * (k - 1))) < n)
         k++;
 
-    uint64_t *w = vor__alloc_large(n, sizeof *w);
-    uint64_t *tmp = vor__alloc_large(n, sizeof *tmp);
+    uint64_t *w = scratch, *tmp = scratch ? scratch + n : NULL;
+    if (!scratch) {
+        w = vor__alloc_large(n, sizeof *w);
+        tmp = vor__alloc_large(n, sizeof *tmp);
+    }
     if (!w || !tmp) {
         free(w);
         free(tmp);
@@ -406,7 +415,9 @@ vor_status vor__insertion_order_counted(const double *xy, size_t n,
     }
     for (size_t i = 0; i < n; i++)
         order[i] = (uint32_t)(w[i] & (((uint64_t)1 << INDEX_BITS) - 1));
-    free(w);
-    free(tmp);
+    if (!scratch) {
+        free(w);
+        free(tmp);
+    }
     return VOR_OK;
 }

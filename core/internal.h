@@ -95,6 +95,11 @@ vor_status vor__insertion_order(const double *xy, size_t n, uint32_t *order);
  * order_keys) when counts is not NULL. */
 vor_status vor__insertion_order_counted(const double *xy, size_t n,
                                         uint32_t *order, vor_counts *counts);
+/* The same in the caller's scratch, 2n words (none allocated), or in its
+ * own if scratch is NULL. */
+vor_status vor__insertion_order_in(const double *xy, size_t n,
+                                   uint32_t *order, vor_counts *counts,
+                                   uint64_t *scratch);
 
 /* ---- Delaunay mesh (core/mesh.h, core/mesh.c) ----------------------------
  * delaunator's representation: half-edge e goes from tri[e] to

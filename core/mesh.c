@@ -144,12 +144,13 @@ void vor__scratch_free(void *q) {
  */
 vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
                            uint32_t *order, double **pxy, vor__walk *w) {
+    double *local = *pxy; /* the caller's block, if any: ours now */
     *pxy = NULL;
-    if (n < 3)
-        return VOR_EINVAL;
-    /* 2n - 2 triangles, 3 half-edges each, ids must fit in int32_t. */
-    if (n > ((size_t)INT32_MAX / 3 + 2) / 2)
-        return VOR_ETOOMANY;
+    if (n < 3 || n > ((size_t)INT32_MAX / 3 + 2) / 2) {
+        /* 2n - 2 triangles, 3 half-edges each, ids must fit in int32_t */
+        free(local);
+        return n < 3 ? VOR_EINVAL : VOR_ETOOMANY;
+    }
     size_t cap = 2 * n - 2;
     const double *a = XY(order[0]), *b = XY(order[1]);
     size_t k = 2;
@@ -158,12 +159,15 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
         k++;
     w->orient2d = k; /* the k - 1 tests above, and the one below */
     w->steps = w->incircle = 0;
-    if (k == n)
+    if (k == n) {
+        free(local);
         return VOR_EINVAL;
+    }
     uint32_t c = order[k];
     order[k] = order[2];
     order[2] = c;
-    double *local = vor__alloc_large(2 * n, sizeof *local);
+    if (!local)
+        local = vor__alloc_large(2 * n, sizeof *local);
     m->tri = vor__alloc_large(3 * cap, sizeof *m->tri);
     m->adj = vor__alloc_large(3 * cap, sizeof *m->adj);
     if (!local || !m->tri || !m->adj) {
@@ -332,26 +336,32 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
 }
 
 vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order,
-                               vor_counts *counts) {
+                               double **coords, vor_counts *counts) {
     *order = NULL;
+    if (coords)
+        *coords = NULL;
     if (s->n < 3)
         return VOR_EINVAL;
     uint32_t *o = vor__alloc_large(s->n, sizeof *o);
-    if (!o)
-        return VOR_ENOMEM;
-    vor_status r = vor__insertion_order_counted(s->xy, s->n, o, counts);
+    double *c = coords ? vor__alloc_large(2 * s->n, sizeof *c) : NULL;
+    vor_status r = VOR_ENOMEM;
+    if (o && (c || !coords))
+        r = vor__insertion_order_in(s->xy, s->n, o, counts, (uint64_t *)c);
     if (r != VOR_OK) {
         free(o);
+        free(c);
         return r;
     }
     *order = o;
+    if (coords)
+        *coords = c;
     return VOR_OK;
 }
 
 vor_status vor__mesh_build_ordered(const vor_sites *s,
                                    vor__mesh_build_fn build, uint32_t *order,
                                    vor__mesh *m) {
-    double *xy;
+    double *xy = NULL;
     vor__run run;
     memset(&run, 0, sizeof run);
     vor_status r = build(s, order, m, &xy, &run);
@@ -365,7 +375,7 @@ vor_status vor__mesh_build_ordered(const vor_sites *s,
 vor_status vor__mesh_build(const vor_sites *s, vor__mesh_build_fn build,
                            vor__mesh *m) {
     uint32_t *order;
-    vor_status r = vor__mesh_order_new(s, &order, NULL);
+    vor_status r = vor__mesh_order_new(s, &order, NULL, NULL);
     if (r == VOR_OK)
         r = vor__mesh_build_ordered(s, build, order, m);
     free(order);

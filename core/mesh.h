@@ -57,8 +57,12 @@ static inline int vor__mesh_is_ghost(const uint32_t *tri, uint32_t t) {
  * not collinear with them is swapped into order[2].
  *
  * The mesh is built on local vertex ids, the ranks in insertion order:
- * *pxy receives a new array (free with free()) of the 2n coordinates in
- * insertion order, so that vertex i is at (*pxy)[2i]. Spatial insertion
+ * *pxy receives an array (free with free()) of the 2n coordinates in
+ * insertion order, so that vertex i is at (*pxy)[2i]: the block *pxy held
+ * on entry if it was not NULL (room for 2n doubles whose contents are no
+ * longer needed, such as the insertion order's scratch, whose pages are
+ * then not touched afresh; it is this function's either way), else a new
+ * one. Spatial insertion
  * order thereby becomes spatial memory order, which is what keeps the walk
  * and the predicates in cache; vor__mesh_finish() maps the ids back to
  * site indices. The caller inserts vertices 3..n-1 afterwards.
@@ -104,8 +108,9 @@ void vor__mesh_finish(vor__mesh *m, const uint32_t *order);
 
 /* Builds the ghost-closed mesh of all sites in local ids, inserting them
  * in the given order (permuted as by vor__mesh_begin); on success *pxy is
- * the coordinates in insertion order (free with free()), on error nothing
- * is left allocated and m is empty. Adds its counts to run->counts and
+ * the coordinates in insertion order (free with free()), made of the
+ * block *pxy held on entry if not NULL (as vor__mesh_begin); on error
+ * nothing is left allocated and m is empty. Adds its counts to run->counts and
  * reports its steps to run->trace (internal.h), the ORDER step included.
  * bowyer_watson.c and flip.c have one each. */
 typedef vor_status (*vor__mesh_build_fn)(const vor_sites *s, uint32_t *order,
@@ -158,9 +163,12 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
 
 /* *order = a new array (free with free()) of the insertion order of the
  * sites (vor__insertion_order), its work added to counts (may be NULL).
- * VOR_EINVAL if n < 3, VOR_ENOMEM; on error *order is NULL (mesh.c). */
+ * With coords not NULL, *coords = the block of 2n doubles in which the
+ * order was sorted, for the build to make its coordinates of
+ * (vor__mesh_begin). VOR_EINVAL if n < 3, VOR_ENOMEM; on error *order
+ * and *coords are NULL (mesh.c). */
 vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order,
-                               vor_counts *counts);
+                               double **coords, vor_counts *counts);
 
 /* The finished (public form) mesh from build with the given insertion
  * order, as vor__bowyer_watson_mesh_ordered and vor__flip_mesh_ordered

@@ -920,7 +920,8 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
     double *lxy = NULL;
     uint32_t *order;
     *out = NULL;
-    vor_status r = vor__mesh_order_new(s, &order, &run->counts);
+    /* the order's scratch becomes the build's coordinates */
+    vor_status r = vor__mesh_order_new(s, &order, &lxy, &run->counts);
     if (r == VOR_OK)
         r = build(s, order, &m, &lxy, run);
     if (r != VOR_OK) {
