@@ -667,9 +667,23 @@ static int incircle_dd(const double *a, const double *b, const double *c,
     return (det.hi > bound) - (det.hi < -bound);
 }
 
+/* 1 if the four values are two pairs of equal values, in any order. */
+static inline int two_pairs(double a, double b, double c, double d) {
+    return (a == b && c == d) || (a == c && b == d) || (a == d && b == c);
+}
+
 VOR__FMA_CLONES
 int vor__incircle_exact(const double *a, const double *b, const double *c,
                         const double *d) {
+    /* Corners of a rectangle with sides parallel to the axes are
+     * cocircular, whatever their coordinates: a grid of any spacing in x
+     * and in y (0.37 by 0.11, raster cell centres, degrees of latitude
+     * and longitude) puts four on every cell, which no filter decides and
+     * the expansions below would. When the x and the y both come in two
+     * pairs, the points are the four corners or two pairs of duplicates
+     * (or all share an x or a y): the determinant is zero in every case. */
+    if (two_pairs(a[0], b[0], c[0], d[0]) && two_pairs(a[1], b[1], c[1], d[1]))
+        return 0;
     double v[8] = {a[0], a[1], b[0], b[1], c[0], c[1], d[0], d[1]};
     int hi, lo;
     if (!operand_range(v, 8, &hi, &lo))

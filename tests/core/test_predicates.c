@@ -411,6 +411,63 @@ static void test_mixed_magnitudes(void **state) {
     }
 }
 
+/* ---- (d) corners of axis-parallel rectangles ------------------------------ */
+
+/* A grid of any spacing in x and in y (0.37 by 0.11: no small lattice)
+ * puts four cocircular sites on every cell; the exact routine answers those
+ * from the coordinates' equalities. Its corners in every order, with
+ * duplicates, on one line, and with one corner moved by an ulp (then not
+ * cocircular), against the oracle. */
+static void test_incircle_axis_rectangles(void **state) {
+    (void)state;
+    int zeros = 0, moved_nonzero = 0;
+    for (int k = 0; k < 40000; k++) {
+        double x[2], y[2];
+        for (int i = 0; i < 2; i++) {
+            switch (k % 4) {
+            case 0: /* a decimal grid */
+                x[i] = 0.37 * (double)rng_int(100000);
+                y[i] = 0.11 * (double)rng_int(100000);
+                break;
+            case 1: /* any doubles */
+                x[i] = rng_any_finite();
+                y[i] = rng_any_finite();
+                break;
+            case 2: /* tiny and huge: no common scale */
+                x[i] = ldexp(rng_sym(), rng_int(2000) - 1000);
+                y[i] = ldexp(rng_sym(), rng_int(2000) - 1000);
+                break;
+            default: /* near each other */
+                x[i] = 1e6 + rng_sym();
+                y[i] = -3 + ldexp(rng_sym(), -30);
+            }
+        }
+        if (k % 13 == 0) x[1] = x[0]; /* all on one line */
+        double p[4][2];
+        int perm = rng_int(24), used = 0;
+        for (int i = 0; i < 4; i++) {
+            int c = perm % (4 - i), j = -1;
+            perm /= 4 - i;
+            while (c >= 0) /* the c-th corner not yet used */
+                if (!(used & (1 << ++j))) c--;
+            used |= 1 << j;
+            p[i][0] = x[j & 1];
+            p[i][1] = y[j >> 1];
+        }
+        if (k % 11 == 0) /* two pairs of duplicates */
+            memcpy(p[2], p[0], sizeof p[0]), memcpy(p[3], p[1], sizeof p[1]);
+        int moved = k % 5 == 0;
+        if (moved) p[rng_int(4)][rng_int(2)] = nextafter(p[0][0], INFINITY);
+        int sg = check_incircle(p[0], p[1], p[2], p[3]);
+        zeros += sg == 0;
+        moved_nonzero += moved && sg != 0;
+    }
+    printf("# axis rectangles: %d cocircular, %d moved off the circle\n", zeros,
+           moved_nonzero);
+    assert_true(zeros > 20000);
+    assert_true(moved_nonzero > 1000);
+}
+
 /* ---- (d') wide dynamic range that only the integer stage gets right ------ */
 
 /* Small integers mixed with small integers times 2^-e and with 2 - 2^-40
@@ -856,6 +913,7 @@ int main(void) {
         cmocka_unit_test(test_random_scales),
         cmocka_unit_test(test_incircle_tangent),
         cmocka_unit_test(test_mixed_magnitudes),
+        cmocka_unit_test(test_incircle_axis_rectangles),
         cmocka_unit_test(test_wide_dynamic_range),
         cmocka_unit_test(test_exact_constructions),
         cmocka_unit_test(test_integer_lattices),
