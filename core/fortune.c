@@ -1255,18 +1255,31 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
 }
 
 /* Order of the events of records r1, r2 whose float intervals overlap (see
- * ev_before): cheapest first, two circles known exactly in doubles or a
- * horizontal translate prove equal tops, the double-double bounds separate
- * nearly equal ones, and the integer comparison of the two tops decides the
- * rest. Events at the same point are ordered by record index (any fixed
+ * ev_before): cheapest first, two cells of a grid compare in sums, two
+ * circles known exactly in doubles prove equal tops, translates compare
+ * by their vector, the double-double bounds separate nearly equal ones, and the
+ * integer comparison of the two tops decides the rest. Events at the same point are ordered by record index (any fixed
  * order would do). */
 static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     const double *e1, *e2, *d1, *d2;
+    const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;
+    const double *a1 = site_xy(w, t1[0]), *b1 = site_xy(w, t1[1]),
+                 *c1 = site_xy(w, t1[2]);
+    const double *a2 = site_xy(w, t2[0]), *b2 = site_xy(w, t2[1]),
+                 *c2 = site_xy(w, t2[2]);
+    int c, box = 0; /* 1: both are cells of a grid, compared; -1: not */
     /* Off a lattice, equal tops are rare and nearly equal ones the rule
-     * (sites on a circle): the double-double bounds first */
-    if (!w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
-        int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
-        if (c != 0) return c < 0;
+     * (sites on a circle): the double-double bounds first, unless both
+     * events are cells of a grid of any spacing (0.37 by 0.11, say),
+     * whose circles compare in sums and whose equal tops no bounds
+     * separate. On a lattice, event_exact holds most circles exactly. */
+    if (!w->lattice) {
+        box = vor__fortune_box_cmp(a1, b1, c1, a2, b2, c2, &c) ? 1 : -1;
+        if (box > 0) goto decided;
+        if (event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+            c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
+            if (c != 0) return c < 0;
+        }
     }
     if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) && e1[1] == e2[1] &&
         e1[2] == e2[2]) {
@@ -1274,24 +1287,17 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
         w->equal_tops++;
         return r1 < r2;
     }
-    const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;
-    const double *a1 = site_xy(w, t1[0]), *b1 = site_xy(w, t1[1]),
-                 *c1 = site_xy(w, t1[2]);
-    const double *a2 = site_xy(w, t2[0]), *b2 = site_xy(w, t2[1]),
-                 *c2 = site_xy(w, t2[2]);
-    if (vor__fortune_translated(a1, b1, c1, a2, b2, c2)) {
-        if (a1[0] != a2[0]) return a1[0] < a2[0];
-        w->equal_tops++;
-        return r1 < r2;
-    }
+    if (box == 0 && vor__fortune_box_cmp(a1, b1, c1, a2, b2, c2, &c))
+        goto decided;
+    if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, &c)) goto decided;
     if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
-        int c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
+        c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
         if (c != 0) return c < 0;
     }
-    int c;
     w->cnt.event_exact++;
     if (!vor__fortune_circle_cmp_small(a1, b1, c1, a2, b2, c2, &c))
         c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
+decided:
     if (c != 0) return c < 0;
     w->equal_tops++;
     return r1 < r2;

@@ -797,17 +797,93 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
     return 1;
 }
 
-int vor__fortune_translated(const double *a1, const double *b1,
-                            const double *c1, const double *a2,
-                            const double *b2, const double *c2) {
-    double u[4], v[4];
-    if (a1[1] != a2[1]) return 0;
-    if (!exact_diff(b1[0], a1[0], &u[0]) || !exact_diff(b1[1], a1[1], &u[1]) ||
-        !exact_diff(c1[0], a1[0], &u[2]) || !exact_diff(c1[1], a1[1], &u[3]) ||
-        !exact_diff(b2[0], a2[0], &v[0]) || !exact_diff(b2[1], a2[1], &v[1]) ||
-        !exact_diff(c2[0], a2[0], &v[2]) || !exact_diff(c2[1], a2[1], &v[3]))
-        return 0;
-    return u[0] == v[0] && u[1] == v[1] && u[2] == v[2] && u[3] == v[3];
+/* Index of the first of three points in sweep order (least y, then least
+ * x). */
+static inline int first_of(const double *const t[3]) {
+    int m = 0;
+    for (int k = 1; k < 3; k++)
+        if (t[k][1] < t[m][1] || (t[k][1] == t[m][1] && t[k][0] < t[m][0]))
+            m = k;
+    return m;
+}
+
+int vor__fortune_translate_cmp(const double *a1, const double *b1,
+                               const double *c1, const double *a2,
+                               const double *b2, const double *c2, int *res) {
+    const double *t1[3] = {a1, b1, c1}, *t2[3] = {a2, b2, c2};
+    /* a translate keeps the first point first and the cyclic order */
+    int m1 = first_of(t1), m2 = first_of(t2);
+    const double *o1 = t1[m1], *o2 = t2[m2];
+    for (int k = 1; k < 3; k++) {
+        const double *p = t1[(m1 + k) % 3], *q = t2[(m2 + k) % 3];
+        for (int j = 0; j < 2; j++) {
+            /* equal differences as reals: equal two-sums (an overflow
+             * leaves a NaN low part, which equals nothing) */
+            dd u = two_sum(p[j], -o1[j]), v = two_sum(q[j], -o2[j]);
+            if (u.hi != v.hi || u.lo != v.lo) return 0;
+        }
+    }
+    /* moved by o2 - o1: the top by its y, the centre by its x */
+    int c = (o1[1] > o2[1]) - (o1[1] < o2[1]);
+    *res = c ? c : (o1[0] > o2[0]) - (o1[0] < o2[0]);
+    return 1;
+}
+
+/* Three corners of a box with sides parallel to the axes (among the
+ * three points, two distinct x and two distinct y): 1 with the box in
+ * v = {x0, x1, y0, y1}, x0 < x1, y0 < y1; else 0. */
+static int box_of(const double *a, const double *b, const double *c,
+                  double *v) {
+    for (int k = 0; k < 2; k++) {
+        double p = a[k], q;
+        if (b[k] == p) {
+            if (c[k] == p) return 0;
+            q = c[k];
+        } else if (c[k] == p || c[k] == b[k]) {
+            q = b[k];
+        } else {
+            return 0;
+        }
+        v[2 * k] = p < q ? p : q;
+        v[2 * k + 1] = p < q ? q : p;
+    }
+    return 1;
+}
+
+/* Order of the exact sums p and q, each as a two-sum (hi = fl(sum)): fl is
+ * monotone, so unequal high parts decide. */
+static inline int sum_cmp(dd p, dd q) {
+    if (p.hi != q.hi) return p.hi < q.hi ? -1 : 1;
+    return (p.lo > q.lo) - (p.lo < q.lo);
+}
+
+int vor__fortune_box_cmp(const double *a1, const double *b1, const double *c1,
+                         const double *a2, const double *b2, const double *c2,
+                         int *res) {
+    double p[4], q[4];
+    if (!box_of(a1, b1, c1, p) || !box_of(a2, b2, c2, q)) return 0;
+    /* the circle of a box: centre ((x0 + x1) / 2, (y0 + y1) / 2), radius
+     * half the diagonal; its top rises with the width at a fixed height */
+    dd w1 = two_sum(p[1], -p[0]), w2 = two_sum(q[1], -q[0]);
+    dd x1 = two_sum(p[0], p[1]), x2 = two_sum(q[0], q[1]);
+    if (!(fabs(w1.hi) <= DBL_MAX && fabs(w2.hi) <= DBL_MAX &&
+          fabs(x1.hi) <= DBL_MAX && fabs(x2.hi) <= DBL_MAX))
+        return 0; /* overflow: no exact sums */
+    int c;
+    if (p[2] == q[2] && p[3] == q[3]) { /* the same rows */
+        c = sum_cmp(w1, w2);
+    } else {
+        dd h1 = two_sum(p[3], -p[2]), h2 = two_sum(q[3], -q[2]);
+        dd y1 = two_sum(p[2], p[3]), y2 = two_sum(q[2], q[3]);
+        if (!(fabs(h1.hi) <= DBL_MAX && fabs(h2.hi) <= DBL_MAX &&
+              fabs(y1.hi) <= DBL_MAX && fabs(y2.hi) <= DBL_MAX))
+            return 0;
+        if (sum_cmp(w1, w2) != 0 || sum_cmp(h1, h2) != 0)
+            return 0; /* unequal radii at unequal heights: square roots */
+        c = sum_cmp(y1, y2); /* equal radii: the centres' heights */
+    }
+    *res = c ? c : sum_cmp(x1, x2);
+    return 1;
 }
 
 /* ---- Circles exactly --------------------------------------------------------

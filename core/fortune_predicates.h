@@ -170,12 +170,26 @@ static inline int vor__fortune_dd_cmp(double hi1, double lo1, double err1,
 int vor__fortune_circle_exact_double(const double *a, const double *b,
                                      const double *c, double *out);
 
-/* 1 if the triangle a2, b2, c2 is exactly a horizontal translate of a1, b1,
- * c1 (equal exactly computed differences, a1.y == a2.y): their circles'
- * tops are then at the same y, and the centres' x differ by a2.x - a1.x. */
-int vor__fortune_translated(const double *a1, const double *b1,
-                            const double *c1, const double *a2,
-                            const double *b2, const double *c2);
+/* Exact ties of translates. When the triangle a2, b2, c2 is exactly a
+ * translate of a1, b1, c1 by some vector (the same shape, in any
+ * rotation of the vertices), their circles' tops differ by its y and
+ * their centres by its x: 1 with *res what vor__fortune_circle_cmp_exact
+ * would return; else 0 (nothing is known then). Grids of any spacing
+ * repeat every shape along their rows. */
+int vor__fortune_translate_cmp(const double *a1, const double *b1,
+                               const double *c1, const double *a2,
+                               const double *b2, const double *c2, int *res);
+
+/* Exact ties of boxes. When each triple is three corners of a box with
+ * sides parallel to the axes (a grid of any spacing in x and in y makes
+ * every circle event so), their circles' tops compare in sums and
+ * differences of coordinates: 1 with *res what
+ * vor__fortune_circle_cmp_exact would return, when the boxes lie between
+ * the same two rows or have the same width and height; else 0 (nothing
+ * is known then). */
+int vor__fortune_box_cmp(const double *a1, const double *b1, const double *c1,
+                         const double *a2, const double *b2, const double *c2,
+                         int *res);
 
 /* Scratch memory for vor__fortune_circle_cmp_exact (about 100 KiB), so that
  * the comparison cannot fail; NULL if out of memory. Free with

@@ -537,21 +537,28 @@ static void test_circle_cmp(void **state) {
     vt_rng r = {seed};
     vor__fortune_ws *ws = vor__fortune_ws_new();
     assert_non_null(ws);
-    int equal = 0, dd_decided = 0, small = 0;
+    int equal = 0, dd_decided = 0, small = 0, translates = 0, translated = 0;
     for (int it = 0; it < 20000; it++) {
         int kind = it % KINDS;
         double t1[3][2], t2[3][2];
         if (!random_triple(&r, kind, t1) || !random_triple(&r, kind, t2))
             continue;
-        if (it % 7 == 0) { /* a horizontal translate: equal tops */
+        if (it % 7 == 0 || it % 7 == 3) {
+            /* a translate, horizontal (equal tops) or not, its vertices
+             * rotated; kept where the rounding left it one */
             double dx = (double)(long)(vt_next(&r) % 7) - 3, t3[3][2];
-            int exact = 1;
+            double dy = it % 7 ? 0.001 * (double)(vt_next(&r) % 5) : 0;
+            int rot = (int)(vt_next(&r) % 3), exact = 1;
             for (int i = 0; i < 3; i++) {
-                t3[i][0] = t1[i][0] + dx;
-                t3[i][1] = t1[i][1];
-                exact &= t3[i][0] - dx == t1[i][0] && t3[i][0] - t1[i][0] == dx;
+                double *v = t3[(i + rot) % 3];
+                v[0] = t1[i][0] + dx;
+                v[1] = t1[i][1] + dy;
+                for (int j = 0; j < 2; j++)
+                    exact &= v[j] - (j ? dy : dx) == t1[i][j] &&
+                             v[j] - t1[i][j] == (j ? dy : dx);
             }
             if (exact) memcpy(t2, t3, sizeof t3);
+            translates += exact;
         }
         const double *e1[3] = {t1[0], t1[1], t1[2]},
                      *e2[3] = {t2[0], t2[1], t2[2]};
@@ -600,9 +607,11 @@ static void test_circle_cmp(void **state) {
                 c1[1] == c2[1] && c1[2] == c2[2])
                 assert_int_equal(want, c1[0] < c2[0] ? -1 : c1[0] > c2[0]);
         }
-        if (vor__fortune_translated(t1[0], t1[1], t1[2], t2[0], t2[1], t2[2]))
-            assert_int_equal(want,
-                             t1[0][0] < t2[0][0] ? -1 : t1[0][0] > t2[0][0]);
+        if (vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                       t2[2], &res)) {
+            translated++;
+            assert_int_equal(res, want);
+        }
     }
     /* lattice triangles and their copies turned by quarter turns and
      * moved by a whole vector, one row up or down at most: equal radii,
@@ -698,6 +707,9 @@ static void test_circle_cmp(void **state) {
     print_message("circle_cmp: %d decided by small integers, %d declined\n",
                   small, declined);
     vor__fortune_ws_free(ws);
+    print_message("circle_cmp: %d translates made, %d found\n", translates,
+                  translated);
+    assert_true(translated >= translates && translates > 1000);
     assert_true(small > 15000);
     assert_true(equal > 100);
     assert_true(dd_decided > 1000);
@@ -706,6 +718,105 @@ static void test_circle_cmp(void **state) {
     double cc[3];
     assert_int_equal(vor__fortune_circle_exact_double(a, b, c, cc), 1);
     assert_true(cc[0] == 0.5 && cc[1] == 0.5 && cc[2] == 0.5);
+}
+
+/* Three corners of the box [x0, x1] x [y0, y1] (corner k = (x of bit 0,
+ * y of bit 1), `skip` left out), counter-clockwise. */
+static void box_triple(double t[3][2], const double *x, const double *y,
+                       int skip, int rot) {
+    int k = 0;
+    for (int c = 0; c < 4; c++) {
+        if (c == skip) continue;
+        double *v = t[(k++ + rot) % 3];
+        v[0] = x[c & 1];
+        v[1] = y[c >> 1];
+    }
+    if (vor_orient2d(t[0], t[1], t[2]) < 0) {
+        double sw[2] = {t[1][0], t[1][1]};
+        memcpy(t[1], t[2], sizeof sw);
+        memcpy(t[2], sw, sizeof sw);
+    }
+}
+
+/* Circle events of grid cells: vor__fortune_box_cmp decides when both
+ * triples are boxes between the same rows or of the same size, and then
+ * as the exact order does; it declines everything else. Columns of a
+ * decimal grid (0.37 i: equal widths come and go with the rounding), of a
+ * binary one (every width exact) and random doubles; rows the same. */
+static void test_box_cmp(void **state) {
+    (void)state;
+    vt_rng r = {4242};
+    print_message("box_cmp: seed 4242\n");
+    int decided = 0, equal_tops = 0, same_circle = 0, declined = 0;
+    for (int it = 0; it < 30000; it++) {
+        int kind = it % 3;
+        double x[2][2], y[2][2];
+        for (int b = 0; b < 2; b++) {
+            for (int i = 0; i < 2; i++) {
+                long k = (long)(vt_next(&r) % 40);
+                x[b][i] = kind == 0   ? 0.37 * (double)k
+                          : kind == 1 ? 1000 + (double)k / 64
+                                      : vt_unit(&r) * 10;
+                y[b][i] = kind == 0 ? 0.11 * (double)(vt_next(&r) % 6)
+                                    : (double)(vt_next(&r) % 6) / 8;
+            }
+            if (x[b][0] == x[b][1] || y[b][0] == y[b][1]) goto next;
+        }
+        switch (vt_next(&r) % 4) {
+        case 0: /* the same rows */
+            y[1][0] = y[0][0];
+            y[1][1] = y[0][1];
+            break;
+        case 1: /* the same box: the same circle, or the same cell's
+                 * other triangle */
+            memcpy(x[1], x[0], sizeof x[0]);
+            memcpy(y[1], y[0], sizeof y[0]);
+            break;
+        case 2: { /* the same size, elsewhere (exactly, where it is):
+                   * along the same rows or not */
+            if (vt_next(&r) % 2) y[1][0] = y[0][0];
+            double dx = x[1][0] - x[0][0], dy = y[1][0] - y[0][0];
+            x[1][1] = x[0][1] + dx;
+            y[1][1] = y[0][1] + dy;
+            if (x[1][0] == x[1][1] || y[1][0] == y[1][1]) goto next;
+            break;
+        }
+        default: /* anything */
+            break;
+        }
+        double t1[3][2], t2[3][2];
+        box_triple(t1, x[0], y[0], (int)(vt_next(&r) % 4), (int)(vt_next(&r) % 3));
+        box_triple(t2, x[1], y[1], (int)(vt_next(&r) % 4), (int)(vt_next(&r) % 3));
+        if (it % 10 == 9) t2[1][0] = nextafter(t2[1][0], INFINITY); /* no box */
+        const double *e1[3] = {t1[0], t1[1], t1[2]},
+                     *e2[3] = {t2[0], t2[1], t2[2]};
+        int res;
+        if (!vor__fortune_box_cmp(t1[0], t1[1], t1[2], t2[0], t2[1], t2[2],
+                                  &res)) {
+            declined++;
+            continue;
+        }
+        int want = q_event_cmp(e1, e2);
+        assert_int_equal(res, want);
+        decided++;
+        mpq_t X1, Y1, R1, X2, Y2, R2;
+        mpq_inits(X1, Y1, R1, X2, Y2, R2, NULL);
+        q_circle(t1[0], t1[1], t1[2], X1, Y1, R1);
+        q_circle(t2[0], t2[1], t2[2], X2, Y2, R2);
+        if (q_cmp_sum_sqrt(Y1, R1, Y2, R2) == 0) {
+            equal_tops++;
+            same_circle += mpq_equal(X1, X2) != 0;
+        }
+        mpq_clears(X1, Y1, R1, X2, Y2, R2, NULL);
+    next:;
+    }
+    print_message("box_cmp: %d decided (%d equal tops, %d the same circle), "
+                  "%d declined\n",
+                  decided, equal_tops, same_circle, declined);
+    assert_true(decided > 10000);
+    assert_true(equal_tops - same_circle > 1000);
+    assert_true(same_circle > 1000);
+    assert_true(declined > 3000);
 }
 
 /* ---- Diagram checks ------------------------------------------------------ */
@@ -864,6 +975,44 @@ static void test_grid_1000(void **state) {
     assert_non_null(xy);
     check_points("grid 1000x1000", xy, 1000000, 1);
     free(xy);
+}
+
+/* Grids of decimal spacing (0.37 by 0.11, not a small lattice in
+ * binary): every cell four cocircular sites, many cells of exactly equal
+ * size along a row (their circles' tops equal), whole or with holes. */
+static void test_decimal_grid(void **state) {
+    (void)state;
+    vt_rng r = {37};
+    print_message("decimal grid: seed 37\n");
+    static double xy[2 * 200 * 200];
+    const size_t dims[][2] = {{30, 20}, {200, 200}};
+    for (int d = 0; d < 2; d++)
+        for (int holes = 0; holes < 2; holes++) {
+            size_t n = 0;
+            for (size_t j = 0; j < dims[d][1]; j++)
+                for (size_t i = 0; i < dims[d][0]; i++) {
+                    if (holes && vt_next(&r) % 3 == 0) continue;
+                    xy[2 * n] = 0.37 * (double)i;
+                    xy[2 * n + 1] = -5 + 0.11 * (double)j;
+                    n++;
+                }
+            char name[64];
+            snprintf(name, sizeof name, "decimal grid %zux%zu%s", dims[d][0],
+                     dims[d][1], holes ? " with holes" : "");
+            check_points(name, xy, n, 1);
+            if (holes) continue;
+            /* ties of cells' circles are decided by sums of coordinates,
+             * never by the exact comparison of two tops */
+            vor_counts c;
+            vor_options o = {&c, NULL, NULL};
+            vor_sites *s = sites_of(xy, n);
+            vor_diagram *f = NULL;
+            assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);
+            assert_true(c.event_compares > 0);
+            assert_int_equal(c.event_exact, 0);
+            vor_diagram_free(f);
+            vor_sites_free(s);
+        }
 }
 
 /* Rows of equal y: one row is collinear (the degenerate diagram), many
@@ -1228,12 +1377,14 @@ int main(void) {
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_circle_cmp),
+        cmocka_unit_test(test_box_cmp),
         cmocka_unit_test(test_trivial_inputs),
         cmocka_unit_test(test_equal_y_first),
         cmocka_unit_test(test_site_below_breakpoint),
         cmocka_unit_test(test_site_at_event_point),
         cmocka_unit_test(test_all_cocircular),
         cmocka_unit_test(test_rows),
+        cmocka_unit_test(test_decimal_grid),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
