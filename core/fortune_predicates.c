@@ -685,10 +685,55 @@ static inline dd dd_sqrt(dd x) {
     return fast_two_sum(r0, e.hi / (2 * r0));
 }
 
-VOR__FMA_CLONES
-int vor__fortune_circle_top_dd(const double *a, const double *b,
-                               const double *c, double *top_hi, double *top_lo,
-                               double *err) {
+/* The top of the circle through two level sites p, q (p.y == q.y) and a
+ * third, v, above them and nearly halfway between them in x: a grid of
+ * decimal spacing with a hole makes such triangles of two sites of a row
+ * and the one between them on the next, rounded out of symmetry by an ulp.
+ * Their tops lie above v by about d^2 / 2r (d = v.x - (p.x + q.x) / 2):
+ * 10^-33 of the top, which the bounds of vor__fortune_circle_top_dd, a
+ * few 2^-100 of the top, cannot tell apart, though two such tops differ
+ * in their leading bits of d. With a = |q.x - p.x| / 2 and h = v.y - p.y,
+ * the centre is at cy = p.y + (h^2 + d^2 - a^2) / 2h, and v.y - cy =
+ * (h^2 - d^2 + a^2) / 2h; the top is v.y + eps with
+ *
+ *   eps = r - (v.y - cy) = d^2 / (r + v.y - cy),
+ *
+ * a quotient of positive terms: when d^2 <= (h^2 + a^2) / 4, v.y - cy >=
+ * 3 (h^2 + a^2) / 8h and r >= v.y - cy, and every rounding (d from the
+ * accurate double-double sum of two exact differences, relative 3u^2; then
+ * about twenty operations in doubles) costs eps less than 20u relative,
+ * far within the 2^-46 allowed. 1 with v.y + eps as top_hi + top_lo (a
+ * two-sum: exact) and that bound in *err, else 0. */
+static int level_top(const double *const t[3], double *top_hi,
+                     double *top_lo, double *err) {
+    for (int k = 0; k < 3; k++) {
+        const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
+        if (p[1] != q[1] || !(v[1] > p[1])) continue;
+        dd d2x = dd_add(two_sum(v[0], -p[0]), two_sum(v[0], -q[0]));
+        double d = 0.5 * d2x.hi, a = 0.5 * fabs(q[0] - p[0]), h = v[1] - p[1];
+        double dd2 = d * d, a2 = a * a, h2 = h * h;
+        /* normal magnitudes only: no underflow, no overflow */
+        if (!(h2 >= 0x1p-900 && a2 >= 0x1p-900 && h2 + a2 <= 0x1p900))
+            return 0;
+        if (d != 0 && !(dd2 >= 0x1p-900)) return 0;
+        if (!(dd2 <= 0.25 * (h2 + a2))) return 0;
+        double c0 = (h2 + dd2 - a2) / (2 * h), c1 = (h2 - dd2 + a2) / (2 * h);
+        double eps = dd2 / (sqrt(a2 + c0 * c0) + c1);
+        dd t2 = two_sum(v[1], eps);
+        *top_hi = t2.hi;
+        *top_lo = t2.lo;
+        *err = 0x1p-46 * eps;
+        return 1;
+    }
+    return 0;
+}
+
+/* The centre of the circle through a, b, c less a, (ux, uy), in
+ * double-double with error bounds eux, euy; 0 when the orientation does
+ * not dominate its rounding (nearly collinear). */
+static inline __attribute__((always_inline)) int
+centre_dd(const double *a, const double *b, const double *c, dd *pux, dd *puy,
+          double *peux, double *peuy) {
     dd bx = two_sum(b[0], -a[0]), by = two_sum(b[1], -a[1]);
     dd cx = two_sum(c[0], -a[0]), cy = two_sum(c[1], -a[1]);
     dd l = dd_mul(bx, cy), r = dd_mul(by, cx);
@@ -710,6 +755,20 @@ int vor__fortune_circle_top_dd(const double *a, const double *b,
         0.5 * enx / ad + (fabs(nx.hi) + enx) / ad * q + 2 * E2 * fabs(ux.hi);
     double euy =
         0.5 * eny / ad + (fabs(ny.hi) + eny) / ad * q + 2 * E2 * fabs(uy.hi);
+    *pux = ux;
+    *puy = uy;
+    *peux = eux;
+    *peuy = euy;
+    return 1;
+}
+
+VOR__FMA_CLONES
+int vor__fortune_circle_top_dd(const double *a, const double *b,
+                               const double *c, double *top_hi, double *top_lo,
+                               double *err) {
+    dd ux, uy;
+    double eux, euy;
+    if (!centre_dd(a, b, c, &ux, &uy, &eux, &euy)) return 0;
     dd ux2 = dd_mul(ux, ux);
     dd rr = dd_sqrt(dd_add(ux2, dd_mul(uy, uy)));
     dd g;
@@ -729,9 +788,37 @@ int vor__fortune_circle_top_dd(const double *a, const double *b,
     *top_hi = t.hi;
     *top_lo = t.lo;
     *err = e;
+    /* nearly isosceles on a level base: the top above the apex by a
+     * margin known to 2^-46 of itself, tighter when the margin is small */
+    const double *tt[3] = {a, b, c};
+    double lh, ll, le;
+    if (level_top(tt, &lh, &ll, &le) && le < e) {
+        *top_hi = lh;
+        *top_lo = ll;
+        *err = le;
+    }
     return 1;
 }
 
+
+/* The centre's x of the circle through a, b, c in double-double, as
+ * vor__fortune_circle_top_dd gives its top (the same requirements). */
+VOR__FMA_CLONES
+static int centre_x_dd(const double *a, const double *b, const double *c,
+                       double *x_hi, double *x_lo, double *err) {
+    dd ux, uy;
+    double eux, euy;
+    if (!centre_dd(a, b, c, &ux, &uy, &eux, &euy)) return 0;
+    dd x = dd_add((dd){a[0], 0}, ux);
+    double e = 2 * (eux + 0x1p-700) +
+               4 * E2 * (fabs(a[0]) + fabs(ux.hi) + fabs(x.hi));
+    if (!(e <= DBL_MAX) || !(fabs(x.hi) <= DBL_MAX) || !(fabs(x.lo) <= DBL_MAX))
+        return 0;
+    *x_hi = x.hi;
+    *x_lo = x.lo;
+    *err = e;
+    return 1;
+}
 
 /* ---- Exact ties in floating point ---------------------------------------- */
 
@@ -797,6 +884,13 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
     return 1;
 }
 
+/* Order of the exact sums p and q, each as a two-sum (hi = fl(sum)): fl is
+ * monotone, so unequal high parts decide. */
+static inline int sum_cmp(dd p, dd q) {
+    if (p.hi != q.hi) return p.hi < q.hi ? -1 : 1;
+    return (p.lo > q.lo) - (p.lo < q.lo);
+}
+
 /* Index of the first of three points in sweep order (least y, then least
  * x). */
 static inline int first_of(const double *const t[3]) {
@@ -807,25 +901,71 @@ static inline int first_of(const double *const t[3]) {
     return m;
 }
 
-int vor__fortune_translate_cmp(const double *a1, const double *b1,
-                               const double *c1, const double *a2,
-                               const double *b2, const double *c2, int *res) {
-    const double *t1[3] = {a1, b1, c1}, *t2[3] = {a2, b2, c2};
-    /* a translate keeps the first point first and the cyclic order */
+/* 1 if t2 is t1 moved by a vector (equal differences from their first
+ * points in sweep order, in the same cyclic order); *o1, *o2 the first
+ * points. */
+static int moved(const double *const t1[3], const double *const t2[3],
+                 const double **o1, const double **o2) {
     int m1 = first_of(t1), m2 = first_of(t2);
-    const double *o1 = t1[m1], *o2 = t2[m2];
+    *o1 = t1[m1];
+    *o2 = t2[m2];
     for (int k = 1; k < 3; k++) {
         const double *p = t1[(m1 + k) % 3], *q = t2[(m2 + k) % 3];
         for (int j = 0; j < 2; j++) {
             /* equal differences as reals: equal two-sums (an overflow
              * leaves a NaN low part, which equals nothing) */
-            dd u = two_sum(p[j], -o1[j]), v = two_sum(q[j], -o2[j]);
+            dd u = two_sum(p[j], -(*o1)[j]), v = two_sum(q[j], -(*o2)[j]);
             if (u.hi != v.hi || u.lo != v.lo) return 0;
         }
     }
-    /* moved by o2 - o1: the top by its y, the centre by its x */
+    return 1;
+}
+
+/* Twice the centre's x of a triangle with two level vertices, p.x + q.x
+ * (the centre is on their bisector), as a two-sum; 0 if none are level. */
+static int level_centre(const double *const t[3], dd *x2) {
+    for (int k = 0; k < 3; k++) {
+        const double *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
+        if (p[1] == q[1]) {
+            *x2 = two_sum(p[0], q[0]);
+            return fabs(x2->hi) <= DBL_MAX;
+        }
+    }
+    return 0;
+}
+
+int vor__fortune_translate_cmp(const double *a1, const double *b1,
+                               const double *c1, const double *a2,
+                               const double *b2, const double *c2, int safe,
+                               int *res) {
+    const double *t1[3] = {a1, b1, c1}, *t2[3] = {a2, b2, c2}, *o1, *o2;
+    if (moved(t1, t2, &o1, &o2)) {
+        /* moved by o2 - o1: the top by its y, the centre by its x */
+        int c = (o1[1] > o2[1]) - (o1[1] < o2[1]);
+        *res = c ? c : (o1[0] > o2[0]) - (o1[0] < o2[0]);
+        return 1;
+    }
+    /* a mirror image (x negated, the order reversed to stay counter-
+     * clockwise), moved: the top moves by the vector's y; at equal
+     * tops, the centres of level triangles are known exactly */
+    double m[3][2] = {{-c2[0], c2[1]}, {-b2[0], b2[1]}, {-a2[0], a2[1]}};
+    const double *t3[3] = {m[0], m[1], m[2]};
+    if (!moved(t1, t3, &o1, &o2)) return 0;
     int c = (o1[1] > o2[1]) - (o1[1] < o2[1]);
-    *res = c ? c : (o1[0] > o2[0]) - (o1[0] < o2[0]);
+    dd x1, x2;
+    double h1, l1, e1, h2, l2, e2;
+    if (c != 0) {
+        /* decided */
+    } else if (level_centre(t1, &x1) && level_centre(t2, &x2)) {
+        c = sum_cmp(x1, x2);
+    } else if (safe && centre_x_dd(a1, b1, c1, &h1, &l1, &e1) &&
+               centre_x_dd(a2, b2, c2, &h2, &l2, &e2)) {
+        c = vor__fortune_dd_cmp(h1, l1, e1, h2, l2, e2);
+        if (c == 0) return 0; /* the same centre, or too close to tell */
+    } else {
+        return 0;
+    }
+    *res = c;
     return 1;
 }
 
@@ -848,13 +988,6 @@ static int box_of(const double *a, const double *b, const double *c,
         v[2 * k + 1] = p < q ? q : p;
     }
     return 1;
-}
-
-/* Order of the exact sums p and q, each as a two-sum (hi = fl(sum)): fl is
- * monotone, so unequal high parts decide. */
-static inline int sum_cmp(dd p, dd q) {
-    if (p.hi != q.hi) return p.hi < q.hi ? -1 : 1;
-    return (p.lo > q.lo) - (p.lo < q.lo);
 }
 
 int vor__fortune_box_cmp(const double *a1, const double *b1, const double *c1,

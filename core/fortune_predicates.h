@@ -173,12 +173,17 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
 /* Exact ties of translates. When the triangle a2, b2, c2 is exactly a
  * translate of a1, b1, c1 by some vector (the same shape, in any
  * rotation of the vertices), their circles' tops differ by its y and
- * their centres by its x: 1 with *res what vor__fortune_circle_cmp_exact
- * would return; else 0 (nothing is known then). Grids of any spacing
- * repeat every shape along their rows. */
+ * their centres by its x; a translate of its mirror image (x negated)
+ * moves the top the same way, and where the tops are level the centres'
+ * x compare in sums (triangles with two level sites) or, with safe (the
+ * range of vor__fortune_circle_top_dd), in double-double bounds. 1 with
+ * *res what vor__fortune_circle_cmp_exact would return; else 0 (nothing
+ * is known then). Grids of any spacing repeat every shape along their
+ * rows, and their mirror images. */
 int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *c1, const double *a2,
-                               const double *b2, const double *c2, int *res);
+                               const double *b2, const double *c2, int safe,
+                               int *res);
 
 /* Exact ties of boxes. When each triple is three corners of a box with
  * sides parallel to the axes (a grid of any spacing in x and in y makes

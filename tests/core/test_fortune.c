@@ -458,6 +458,50 @@ static void test_circle_top_bounds(void **state) {
                   dd_tried);
     assert_true(tight > tried * 9 / 10);
     assert_true(dd_tried > 5000);
+
+    /* two sites of a row and the one between them on the next, of grids of
+     * decimal spacing, some moved off the middle by a few ulps or more:
+     * tops above the apex by 10^-33 of themselves or less, which only
+     * the level form of the double-double bounds separates */
+    int near = 0, level = 0;
+    for (int it = 0; it < 20000; it++) {
+        double sx = 0.01 * (double)(1 + vt_next(&r) % 100),
+               sy = 0.01 * (double)(1 + vt_next(&r) % 100);
+        double i = (double)(vt_next(&r) % 100000), j = (double)(vt_next(&r) % 1000);
+        int span = 1 + (int)(vt_next(&r) % 3);
+        double t[3][2] = {{sx * i, sy * j},
+                          {sx * (i + 2 * span), sy * j},
+                          {sx * (i + span), sy * (j + 1)}};
+        if (it % 4 == 1) /* off the middle by some ulps */
+            t[2][0] = nextafter(nextafter(t[2][0], 0), 0);
+        else if (it % 4 == 2) /* farther: the usual bounds win */
+            t[2][0] += sx * 0.3;
+        else if (it % 4 == 3) /* the apex below: no level form */
+            t[2][1] = sy * (j - 1);
+        if (vor_orient2d(t[0], t[1], t[2]) < 0) {
+            double sw[2] = {t[0][0], t[0][1]};
+            t[0][0] = t[1][0], t[0][1] = t[1][1];
+            t[1][0] = sw[0], t[1][1] = sw[1];
+        }
+        for (int rot = 0; rot < 3; rot++) {
+            double u[3][2];
+            for (int k = 0; k < 3; k++) {
+                u[k][0] = t[(k + rot) % 3][0];
+                u[k][1] = t[(k + rot) % 3][1];
+            }
+            double th, tl, err;
+            if (!vor__fortune_circle_top_dd(u[0], u[1], u[2], &th, &tl, &err))
+                continue;
+            check_dd_top(u, th, tl, err);
+            if (it % 4 < 2) {
+                near++;
+                level += err < 0x1p-110 * fabs(th);
+            }
+        }
+    }
+    print_message("circle_top: %d of %d nearly isosceles tops within 2^-110 "
+                  "relative\n", level, near);
+    assert_true(level > near * 9 / 10);
 }
 
 static void test_site_first(void **state) {
@@ -537,32 +581,38 @@ static void test_circle_cmp(void **state) {
     vt_rng r = {seed};
     vor__fortune_ws *ws = vor__fortune_ws_new();
     assert_non_null(ws);
-    int equal = 0, dd_decided = 0, small = 0, translates = 0, translated = 0;
+    int equal = 0, dd_decided = 0, small = 0;
+    int tried[3] = {0, 0, 0}, found[3] = {0, 0, 0}; /* by kind made */
     for (int it = 0; it < 20000; it++) {
         int kind = it % KINDS;
         double t1[3][2], t2[3][2];
         if (!random_triple(&r, kind, t1) || !random_triple(&r, kind, t2))
             continue;
-        if (it % 7 == 0 || it % 7 == 3) {
+        int made = 0; /* 1 a translate, 2 a mirror image's */
+        if (it % 7 == 0 || it % 7 == 3 || it % 7 == 5) {
             /* a translate, horizontal (equal tops) or not, its vertices
-             * rotated; kept where the rounding left it one */
+             * rotated, or (5) of its mirror image, the order reversed;
+             * kept where the rounding left it one */
             double dx = (double)(long)(vt_next(&r) % 7) - 3, t3[3][2];
-            double dy = it % 7 ? 0.001 * (double)(vt_next(&r) % 5) : 0;
-            int rot = (int)(vt_next(&r) % 3), exact = 1;
+            double dy = it % 7 == 3 ? 0.001 * (double)(vt_next(&r) % 5) : 0;
+            int rot = (int)(vt_next(&r) % 3), exact = 1, mirror = it % 7 == 5;
             for (int i = 0; i < 3; i++) {
-                double *v = t3[(i + rot) % 3];
-                v[0] = t1[i][0] + dx;
+                double *v = t3[mirror ? (3 - i + rot) % 3 : (i + rot) % 3];
+                double x = mirror ? -t1[i][0] : t1[i][0];
+                v[0] = x + dx;
                 v[1] = t1[i][1] + dy;
-                for (int j = 0; j < 2; j++)
-                    exact &= v[j] - (j ? dy : dx) == t1[i][j] &&
-                             v[j] - t1[i][j] == (j ? dy : dx);
+                exact &= v[0] - dx == x && v[0] - x == dx;
+                exact &= v[1] - dy == t1[i][1] && v[1] - t1[i][1] == dy;
             }
             if (exact) memcpy(t2, t3, sizeof t3);
-            translates += exact;
+            made = exact ? 1 + mirror : 0;
         }
         const double *e1[3] = {t1[0], t1[1], t1[2]},
                      *e2[3] = {t2[0], t2[1], t2[2]};
         int want = q_event_cmp(e1, e2);
+        int safe_pair = in_safe_range(t1[0]) && in_safe_range(t1[1]) &&
+                        in_safe_range(t1[2]) && in_safe_range(t2[0]) &&
+                        in_safe_range(t2[1]) && in_safe_range(t2[2]);
         equal += want == 0;
         assert_int_equal(vor__fortune_circle_cmp_exact(t1[0], t1[1], t1[2],
                                                        t2[0], t2[1], t2[2], ws),
@@ -608,10 +658,11 @@ static void test_circle_cmp(void **state) {
                 assert_int_equal(want, c1[0] < c2[0] ? -1 : c1[0] > c2[0]);
         }
         if (vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
-                                       t2[2], &res)) {
-            translated++;
+                                       t2[2], safe_pair, &res)) {
+            found[made]++;
             assert_int_equal(res, want);
         }
+        tried[made]++;
     }
     /* lattice triangles and their copies turned by quarter turns and
      * moved by a whole vector, one row up or down at most: equal radii,
@@ -707,9 +758,13 @@ static void test_circle_cmp(void **state) {
     print_message("circle_cmp: %d decided by small integers, %d declined\n",
                   small, declined);
     vor__fortune_ws_free(ws);
-    print_message("circle_cmp: %d translates made, %d found\n", translates,
-                  translated);
-    assert_true(translated >= translates && translates > 1000);
+    print_message("circle_cmp: translates %d of %d found, of mirror images "
+                  "%d of %d\n", found[1], tried[1], found[2], tried[2]);
+    /* every translate; mirror images at equal tops only where the centres
+     * are level or the bounds tell them apart (in the safe range, not
+     * nearly collinear: a third of the random triples) */
+    assert_true(found[1] == tried[1] && tried[1] > 1000);
+    assert_true(found[2] > tried[2] / 4 && tried[2] > 1000);
     assert_true(small > 15000);
     assert_true(equal > 100);
     assert_true(dd_decided > 1000);
