@@ -719,6 +719,10 @@ static int level_top(const double *const t[3], double *top_hi,
         if (!(dd2 <= 0.25 * (h2 + a2))) return 0;
         double c0 = (h2 + dd2 - a2) / (2 * h), c1 = (h2 - dd2 + a2) / (2 * h);
         double eps = dd2 / (sqrt(a2 + c0 * c0) + c1);
+        /* a flat triangle (h tiny beside a) can overflow the centre's
+         * height, and then eps would be 0 or tiny without being so */
+        if (!(c0 * c0 <= DBL_MAX && c1 <= DBL_MAX)) return 0;
+        if (d != 0 && !(eps >= 0x1p-900)) return 0;
         dd t2 = two_sum(v[1], eps);
         *top_hi = t2.hi;
         *top_lo = t2.lo;

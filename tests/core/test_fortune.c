@@ -465,8 +465,11 @@ static void test_circle_top_bounds(void **state) {
      * the level form of the double-double bounds separates */
     int near = 0, level = 0;
     for (int it = 0; it < 20000; it++) {
-        double sx = 0.01 * (double)(1 + vt_next(&r) % 100),
-               sy = 0.01 * (double)(1 + vt_next(&r) % 100);
+        /* spacings of two decimals, scaled into the safe range by powers
+         * of two; every eighth grid flat (rows 2^-200 apart) */
+        double sx = 0x1p-17 * 0.01 * (double)(1 + vt_next(&r) % 100),
+               sy = ldexp(0.01 * (double)(1 + vt_next(&r) % 100),
+                          it % 8 == 7 ? -200 : -10);
         double i = (double)(vt_next(&r) % 100000), j = (double)(vt_next(&r) % 1000);
         int span = 1 + (int)(vt_next(&r) % 3);
         double t[3][2] = {{sx * i, sy * j},
@@ -490,6 +493,8 @@ static void test_circle_top_bounds(void **state) {
                 u[k][1] = t[(k + rot) % 3][1];
             }
             double th, tl, err;
+            assert_true(in_safe_range(u[0]) && in_safe_range(u[1]) &&
+                        in_safe_range(u[2]));
             if (!vor__fortune_circle_top_dd(u[0], u[1], u[2], &th, &tl, &err))
                 continue;
             check_dd_top(u, th, tl, err);
