@@ -111,6 +111,9 @@
  * walked that way (a longer one is walked again, alone). */
 #define BLOCK 32
 #define BLOCK_FAN 24
+/* How many half-edges ahead the search for cocircular polygons
+ * prefetches the twins' apexes (and half as many, their points). */
+#define MERGE_AHEAD 32
 /* How many sites ahead the sweep prefetches vid and the twin slots. */
 #define SWEEP_AHEAD 8
 /* Fan scratch slots that live in vor__mesh_dual's frame (about 4 KiB);
@@ -630,6 +633,18 @@ static int merge_prepare(dual *D) {
     uint32_t *root = D->root; /* set for triangles in polygons only */
     const double icc = vor__incircle_static_bound(vor__span(lxy, n));
     for (uint32_t e = 0; e < 3 * T; e++) {
+        /* the twin's apex and the four points, read at random where the
+         * mesh's neighbours are far apart in its order (points in convex
+         * position): fetched MERGE_AHEAD and MERGE_AHEAD / 2 edges early */
+        if (e + MERGE_AHEAD < 3 * T) {
+            const uint32_t g = (uint32_t)adj[e + MERGE_AHEAD];
+            __builtin_prefetch(tri + vor__prev(g));
+            __builtin_prefetch(XY(tri[e + MERGE_AHEAD] & 0x3fffffffu));
+        }
+        if (e + MERGE_AHEAD / 2 < 3 * T) {
+            const uint32_t g = (uint32_t)adj[e + MERGE_AHEAD / 2];
+            __builtin_prefetch(XY(tri[vor__prev(g)] & 0x3fffffffu));
+        }
         const uint32_t f = (uint32_t)adj[e];
         if (f < e) continue; /* each edge once */
         const uint32_t a = tri[e], b = tri[vor__next(e)], c = tri[vor__prev(e)],
