@@ -312,6 +312,26 @@ static void test_bp_side_on_circle(void **state) {
 }
 
 /* The top of the circle through t lies within err of th + tl, exactly. */
+/* Puts triple t in counter-clockwise order, swapping its first two points
+ * if needed; 0 if it is collinear. */
+static int make_ccw(double t[3][2]) {
+    int o = vor_orient2d(t[0], t[1], t[2]);
+    if (o < 0) {
+        double sw[2] = {t[0][0], t[0][1]};
+        t[0][0] = t[1][0], t[0][1] = t[1][1];
+        t[1][0] = sw[0], t[1][1] = sw[1];
+    }
+    return o != 0;
+}
+
+/* u = triple t with its points rotated by rot places. */
+static void rotated(double u[3][2], double t[3][2], int rot) {
+    for (int k = 0; k < 3; k++) {
+        u[k][0] = t[(k + rot) % 3][0];
+        u[k][1] = t[(k + rot) % 3][1];
+    }
+}
+
 static void check_dd_top(double t[3][2], double th, double tl, double err) {
     mpq_t X, Y, R2, c, e, z;
     mpq_inits(X, Y, R2, c, e, z, NULL);
@@ -414,21 +434,12 @@ static void test_circle_top_bounds(void **state) {
                           {x0 + dx, y0},
                           {x0 + dx * ((double)(vt_next(&r) % 200) / 100.0 - 0.5),
                            y0 + side}};
-        int o = vor_orient2d(t[0], t[1], t[2]);
-        if (o == 0) continue;
-        if (o < 0) { /* converging order: swap the pair */
-            double sw[2] = {t[0][0], t[0][1]};
-            t[0][0] = t[1][0], t[0][1] = t[1][1];
-            t[1][0] = sw[0], t[1][1] = sw[1];
-        }
+        if (!make_ccw(t)) continue; /* converging order */
         /* each rotation, the lone site first among them (the sweep
          * meets all three) */
         for (int rot = 0; rot < 3; rot++) {
             double u[3][2];
-            for (int k = 0; k < 3; k++) {
-                u[k][0] = t[(k + 2 + rot) % 3][0];
-                u[k][1] = t[(k + 2 + rot) % 3][1];
-            }
+            rotated(u, t, rot + 2);
             for (int safe = 0; safe < 2; safe++) {
                 if (safe && !(in_safe_range(u[0]) && in_safe_range(u[1]) &&
                               in_safe_range(u[2])))
@@ -481,17 +492,10 @@ static void test_circle_top_bounds(void **state) {
             t[2][0] += sx * 0.3;
         else if (it % 4 == 3) /* the apex below: no level form */
             t[2][1] = sy * (j - 1);
-        if (vor_orient2d(t[0], t[1], t[2]) < 0) {
-            double sw[2] = {t[0][0], t[0][1]};
-            t[0][0] = t[1][0], t[0][1] = t[1][1];
-            t[1][0] = sw[0], t[1][1] = sw[1];
-        }
+        (void)make_ccw(t);
         for (int rot = 0; rot < 3; rot++) {
             double u[3][2];
-            for (int k = 0; k < 3; k++) {
-                u[k][0] = t[(k + rot) % 3][0];
-                u[k][1] = t[(k + rot) % 3][1];
-            }
+            rotated(u, t, rot);
             double th, tl, err;
             assert_true(in_safe_range(u[0]) && in_safe_range(u[1]) &&
                         in_safe_range(u[2]));
