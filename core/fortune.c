@@ -1289,7 +1289,8 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     }
     if (box == 0 && vor__fortune_box_cmp(a1, b1, c1, a2, b2, c2, &c))
         goto decided;
-    if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, w->safe, &c))
+    if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, w->safe, &c) ||
+        vor__fortune_level_cmp(a1, b1, c1, a2, b2, c2, &c))
         goto decided;
     if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
         c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);

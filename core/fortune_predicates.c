@@ -973,6 +973,56 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
     return 1;
 }
 
+/* A triangle with two level sites p, q and a third, v: the rows of the
+ * pair (y1) and of v (y0); the pair's width |q.x - p.x| and p.x + q.x
+ * (twice the centre's x), as two-sums; twice v's offset from their
+ * bisector, (v.x - p.x) + (v.x - q.x), as a two-sum when the two
+ * differences are exact in doubles (else 0 is returned). */
+typedef struct level {
+    double y1, y0;
+    dd w, m2, d2;
+} level;
+
+static int level_of(const double *const t[3], level *L) {
+    for (int k = 0; k < 3; k++) {
+        const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
+        if (p[1] != q[1]) continue;
+        dd e1 = two_sum(v[0], -p[0]), e2 = two_sum(v[0], -q[0]);
+        if (e1.lo != 0 || e2.lo != 0) return 0; /* NaN on overflow too */
+        L->y1 = p[1];
+        L->y0 = v[1];
+        L->w = p[0] < q[0] ? two_sum(q[0], -p[0]) : two_sum(p[0], -q[0]);
+        L->m2 = two_sum(p[0], q[0]);
+        L->d2 = two_sum(e1.hi, e2.hi);
+        if (L->d2.hi < 0) L->d2 = (dd){-L->d2.hi, -L->d2.lo}; /* |2d| */
+        return fabs(L->w.hi) <= DBL_MAX && fabs(L->m2.hi) <= DBL_MAX &&
+               fabs(L->d2.hi) <= DBL_MAX;
+    }
+    return 0;
+}
+
+int vor__fortune_level_cmp(const double *a1, const double *b1,
+                           const double *c1, const double *a2,
+                           const double *b2, const double *c2, int *res) {
+    const double *t1[3] = {a1, b1, c1}, *t2[3] = {a2, b2, c2};
+    level A, B;
+    if (!level_of(t1, &A) || !level_of(t2, &B)) return 0;
+    if (A.y1 != B.y1 || A.y0 != B.y0 || sum_cmp(A.w, B.w) != 0) return 0;
+    /* With the pair at m -+ a on row y1 and v at (m + d, y0), h = y1 - y0,
+     * the centre lies s = (h^2 - a^2 + d^2) / 2h below the pair's row and
+     * the top at y1 - s + sqrt(a^2 + s^2), whose derivative in d^2 is
+     * (s / r - 1) / 2h: of the sign of -h, since |s| < r. So at the same
+     * rows and width the tops are ordered by |d|, the other way round
+     * when v is the lower; at equal |d| they are equal, and the centres'
+     * x are m. */
+    int c = sum_cmp(A.d2, B.d2);
+    if (c != 0)
+        *res = A.y0 < A.y1 ? -c : c;
+    else
+        *res = sum_cmp(A.m2, B.m2);
+    return 1;
+}
+
 /* Three corners of a box with sides parallel to the axes (among the
  * three points, two distinct x and two distinct y): 1 with the box in
  * v = {x0, x1, y0, y1}, x0 < x1, y0 < y1; else 0. */

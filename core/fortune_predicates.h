@@ -185,6 +185,18 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *b2, const double *c2, int safe,
                                int *res);
 
+/* Exact ties of level triangles. When each triple has two sites on one
+ * row and the third on another, the same two rows for both, the level
+ * pairs of equal width, and the third sites' offsets from the pairs'
+ * bisectors exact in doubles (a triangular grid of any spacing, or a
+ * square one with holes, rounded out of symmetry by ulps), their tops
+ * are ordered by those offsets: 1 with *res what
+ * vor__fortune_circle_cmp_exact would return; else 0 (nothing is known
+ * then). */
+int vor__fortune_level_cmp(const double *a1, const double *b1,
+                           const double *c1, const double *a2,
+                           const double *b2, const double *c2, int *res);
+
 /* Exact ties of boxes. When each triple is three corners of a box with
  * sides parallel to the axes (a grid of any spacing in x and in y makes
  * every circle event so), their circles' tops compare in sums and

@@ -883,6 +883,70 @@ static void test_box_cmp(void **state) {
     assert_true(declined > 3000);
 }
 
+/* Triangles of two sites on one row and a third on another, as a
+ * triangular grid of decimal spacing makes them: vor__fortune_level_cmp
+ * decides pairs between the same rows with level pairs of equal width
+ * (the third sites off the middle by ulps, or farther, above or below),
+ * and then as the exact order does; it declines the rest. */
+static void test_level_cmp(void **state) {
+    (void)state;
+    vt_rng r = {4343};
+    print_message("level_cmp: seed 4343\n");
+    int decided = 0, equal_tops = 0, declined = 0;
+    for (int it = 0; it < 30000; it++) {
+        double sx = 0.01 * (double)(1 + vt_next(&r) % 100),
+               sy = 0.01 * (double)(1 + vt_next(&r) % 100);
+        double j = (double)(vt_next(&r) % 1000);
+        int below = (int)(vt_next(&r) % 2), span = 1 + (int)(vt_next(&r) % 3);
+        double t[2][3][2];
+        for (int b = 0; b < 2; b++) {
+            double i = (double)(vt_next(&r) % 100000);
+            if (it % 4 == 0 && b == 1) j += (double)(vt_next(&r) % 2);
+            double y1 = sy * j, y0 = sy * (below ? j - 1 : j + 1);
+            double p[2] = {sx * i, y1}, q[2] = {sx * (i + 2 * span), y1};
+            double v[2] = {sx * (i + span), y0};
+            switch (vt_next(&r) % 4) {
+            case 0: break; /* the decimal grid's rounding alone */
+            case 1: v[0] = nextafter(v[0], INFINITY); break;
+            case 2: v[0] = nextafter(nextafter(v[0], 0), 0); break;
+            default: v[0] += sx * 0.25; break;
+            }
+            if (it % 5 == 4 && b == 1) /* no level pair */
+                p[1] = nextafter(p[1], INFINITY);
+            memcpy(t[b][0], p, sizeof p);
+            memcpy(t[b][1], q, sizeof q);
+            memcpy(t[b][2], v, sizeof v);
+            if (!make_ccw(t[b])) goto next;
+            double u[3][2];
+            rotated(u, t[b], (int)(vt_next(&r) % 3));
+            memcpy(t[b], u, sizeof u);
+        }
+        int res;
+        if (!vor__fortune_level_cmp(t[0][0], t[0][1], t[0][2], t[1][0],
+                                    t[1][1], t[1][2], &res)) {
+            declined++;
+            continue;
+        }
+        const double *e1[3] = {t[0][0], t[0][1], t[0][2]},
+                     *e2[3] = {t[1][0], t[1][1], t[1][2]};
+        int want = q_event_cmp(e1, e2);
+        assert_int_equal(res, want);
+        decided++;
+        mpq_t X1, Y1, R1, X2, Y2, R2;
+        mpq_inits(X1, Y1, R1, X2, Y2, R2, NULL);
+        q_circle(e1[0], e1[1], e1[2], X1, Y1, R1);
+        q_circle(e2[0], e2[1], e2[2], X2, Y2, R2);
+        equal_tops += q_cmp_sum_sqrt(Y1, R1, Y2, R2) == 0;
+        mpq_clears(X1, Y1, R1, X2, Y2, R2, NULL);
+    next:;
+    }
+    print_message("level_cmp: %d decided (%d equal tops), %d declined\n",
+                  decided, equal_tops, declined);
+    assert_true(decided > 5000);
+    assert_true(equal_tops > 500 && decided - equal_tops > 2000);
+    assert_true(declined > 5000);
+}
+
 /* ---- Diagram checks ------------------------------------------------------ */
 
 static vor_sites *sites_of(const double *xy, size_t n) {
@@ -1043,30 +1107,37 @@ static void test_grid_1000(void **state) {
 
 /* Grids of decimal spacing (0.37 by 0.11, not a small lattice in
  * binary): every cell four cocircular sites, many cells of exactly equal
- * size along a row (their circles' tops equal), whole or with holes. */
+ * size along a row (their circles' tops equal), whole or with holes; and
+ * triangular ones (every other row shifted by half a step), whose
+ * triangles are isosceles but for the rounding. */
 static void test_decimal_grid(void **state) {
     (void)state;
     vt_rng r = {37};
     print_message("decimal grid: seed 37\n");
     static double xy[2 * 200 * 200];
     const size_t dims[][2] = {{30, 20}, {200, 200}};
-    for (int d = 0; d < 2; d++)
+    for (int d = 0; d < 4; d++)
         for (int holes = 0; holes < 2; holes++) {
             size_t n = 0;
-            for (size_t j = 0; j < dims[d][1]; j++)
-                for (size_t i = 0; i < dims[d][0]; i++) {
+            const int tri = d >= 2;
+            for (size_t j = 0; j < dims[d % 2][1]; j++)
+                for (size_t i = 0; i < dims[d % 2][0]; i++) {
                     if (holes && vt_next(&r) % 3 == 0) continue;
-                    xy[2 * n] = 0.37 * (double)i;
-                    xy[2 * n + 1] = -5 + 0.11 * (double)j;
+                    xy[2 * n] = tri ? 0.3 * ((double)i + 0.5 * (double)(j % 2))
+                                    : 0.37 * (double)i;
+                    xy[2 * n + 1] = tri ? 0.26 * (double)j
+                                        : -5 + 0.11 * (double)j;
                     n++;
                 }
             char name[64];
-            snprintf(name, sizeof name, "decimal grid %zux%zu%s", dims[d][0],
-                     dims[d][1], holes ? " with holes" : "");
+            snprintf(name, sizeof name, "%s grid %zux%zu%s",
+                     tri ? "triangular decimal" : "decimal", dims[d % 2][0],
+                     dims[d % 2][1], holes ? " with holes" : "");
             check_points(name, xy, n, 1);
             if (holes) continue;
-            /* ties of cells' circles are decided by sums of coordinates,
-             * never by the exact comparison of two tops */
+            /* ties of cells' circles, and of the triangles of a triangular
+             * grid, are decided by sums of coordinates, never by the exact
+             * comparison of two tops */
             vor_counts c;
             vor_options o = {&c, NULL, NULL};
             vor_sites *s = sites_of(xy, n);
@@ -1442,6 +1513,7 @@ int main(void) {
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_circle_cmp),
         cmocka_unit_test(test_box_cmp),
+        cmocka_unit_test(test_level_cmp),
         cmocka_unit_test(test_trivial_inputs),
         cmocka_unit_test(test_equal_y_first),
         cmocka_unit_test(test_site_below_breakpoint),
