@@ -925,17 +925,32 @@ static int moved(const double *const t1[3], const double *const t2[3],
     return 1;
 }
 
-/* Twice the centre's x of a triangle with two level vertices, p.x + q.x
- * (the centre is on their bisector), as a two-sum; 0 if none are level. */
-static int level_centre(const double *const t[3], dd *x2) {
-    for (int k = 0; k < 3; k++) {
-        const double *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
-        if (p[1] == q[1]) {
-            *x2 = two_sum(p[0], q[0]);
-            return fabs(x2->hi) <= DBL_MAX;
+/* Twice a coordinate of the centre of a triangle with two sites p, q of
+ * equal coordinate k (their bisector holds the centre): the sum of their
+ * other coordinates, p + q, as a two-sum; 0 if there are no such two
+ * (k = 1: level sites give the centre's x; k = 0: a vertical pair its y). */
+static int pair_centre(const double *const t[3], int k, dd *sum) {
+    for (int i = 0; i < 3; i++) {
+        const double *p = t[(i + 1) % 3], *q = t[(i + 2) % 3];
+        if (p[k] == q[k]) {
+            *sum = two_sum(p[1 - k], q[1 - k]);
+            return fabs(sum->hi) <= DBL_MAX;
         }
     }
     return 0;
+}
+
+/* The order of two circles' centres in x by their double-double bounds,
+ * in the safe range: 1 with *c when they separate them, else 0 (the same
+ * centre, or too close to tell). */
+static int centres_x(const double *const t1[3], const double *const t2[3],
+                     int safe, int *c) {
+    double h1, l1, e1, h2, l2, e2;
+    if (!safe || !centre_x_dd(t1[0], t1[1], t1[2], &h1, &l1, &e1) ||
+        !centre_x_dd(t2[0], t2[1], t2[2], &h2, &l2, &e2))
+        return 0;
+    *c = vor__fortune_dd_cmp(h1, l1, e1, h2, l2, e2);
+    return *c != 0;
 }
 
 int vor__fortune_translate_cmp(const double *a1, const double *b1,
@@ -954,23 +969,43 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
      * tops, the centres of level triangles are known exactly */
     double m[3][2] = {{-c2[0], c2[1]}, {-b2[0], b2[1]}, {-a2[0], a2[1]}};
     const double *t3[3] = {m[0], m[1], m[2]};
-    if (!moved(t1, t3, &o1, &o2)) return 0;
-    int c = (o1[1] > o2[1]) - (o1[1] < o2[1]);
-    dd x1, x2;
-    double h1, l1, e1, h2, l2, e2;
-    if (c != 0) {
-        /* decided */
-    } else if (level_centre(t1, &x1) && level_centre(t2, &x2)) {
-        c = sum_cmp(x1, x2);
-    } else if (safe && centre_x_dd(a1, b1, c1, &h1, &l1, &e1) &&
-               centre_x_dd(a2, b2, c2, &h2, &l2, &e2)) {
-        c = vor__fortune_dd_cmp(h1, l1, e1, h2, l2, e2);
-        if (c == 0) return 0; /* the same centre, or too close to tell */
-    } else {
-        return 0;
+    int c;
+    if (moved(t1, t3, &o1, &o2)) {
+        c = (o1[1] > o2[1]) - (o1[1] < o2[1]);
+        dd x1, x2;
+        if (c == 0 && pair_centre(t1, 1, &x1) && pair_centre(t2, 1, &x2))
+            c = sum_cmp(x1, x2);
+        else if (c == 0 && !centres_x(t1, t2, safe, &c))
+            return 0;
+        *res = c;
+        return 1;
     }
-    *res = c;
-    return 1;
+    /* turned upside down (y negated, the order reversed) or half a turn
+     * (both negated), then moved by v: t2's top is the bottom of t1's
+     * circle moved, so top1 - top2 = 2 cy1 + v.y, which a vertical pair
+     * p, q of t1 gives exactly (2 cy1 = p.y + q.y: the centre is on their
+     * bisector). At equal tops the upturned centre is moved by v.x, the
+     * turned one mirrored. */
+    dd y2;
+    if (!pair_centre(t1, 0, &y2)) return 0;
+    for (int half = 0; half < 2; half++) {
+        for (int k = 0; k < 3; k++) {
+            const double *q = half ? t2[k] : t2[2 - k];
+            m[k][0] = half ? -q[0] : q[0];
+            m[k][1] = -q[1];
+        }
+        if (!moved(t1, t3, &o1, &o2)) continue;
+        dd s = dd_add(y2, two_sum(o2[1], -o1[1])); /* sign exact */
+        if (!(fabs(s.hi) <= DBL_MAX)) return 0;
+        c = (s.hi > 0) - (s.hi < 0);
+        if (c == 0 && !half)
+            c = (o1[0] > o2[0]) - (o1[0] < o2[0]);
+        else if (c == 0 && !centres_x(t1, t2, safe, &c))
+            return 0;
+        *res = c;
+        return 1;
+    }
+    return 0;
 }
 
 /* A triangle with two level sites p, q and a third, v: the rows of the

@@ -176,10 +176,12 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
  * their centres by its x; a translate of its mirror image (x negated)
  * moves the top the same way, and where the tops are level the centres'
  * x compare in sums (triangles with two level sites) or, with safe (the
- * range of vor__fortune_circle_top_dd), in double-double bounds. 1 with
+ * range of vor__fortune_circle_top_dd), in double-double bounds. Images
+ * turned upside down or by half a turn are taken where the triangles
+ * have two sites of equal x, which gives their centres' y exactly. 1 with
  * *res what vor__fortune_circle_cmp_exact would return; else 0 (nothing
  * is known then). Grids of any spacing repeat every shape along their
- * rows, and their mirror images. */
+ * rows, and its images. */
 int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *c1, const double *a2,
                                const double *b2, const double *c2, int safe,

@@ -126,6 +126,20 @@ static int q_top_vs(const double *a, const double *b, const double *c,
     return r;
 }
 
+/* 1 if two circle events have equal tops; *same (if not NULL) is set
+ * when their centres are the same point too. */
+static int q_equal_tops(const double *const e1[3], const double *const e2[3],
+                        int *same) {
+    mpq_t X1, Y1, R1, X2, Y2, R2;
+    mpq_inits(X1, Y1, R1, X2, Y2, R2, NULL);
+    q_circle(e1[0], e1[1], e1[2], X1, Y1, R1);
+    q_circle(e2[0], e2[1], e2[2], X2, Y2, R2);
+    int eq = q_cmp_sum_sqrt(Y1, R1, Y2, R2) == 0;
+    if (same) *same = eq && mpq_equal(X1, X2) != 0;
+    mpq_clears(X1, Y1, R1, X2, Y2, R2, NULL);
+    return eq;
+}
+
 /* Sweep order of two circle events: sign of (T1, X1) - (T2, X2). */
 static int q_event_cmp(const double *const e1[3], const double *const e2[3]) {
     mpq_t X1, Y1, R1, X2, Y2, R2;
@@ -860,18 +874,11 @@ static void test_box_cmp(void **state) {
             declined++;
             continue;
         }
-        int want = q_event_cmp(e1, e2);
+        int want = q_event_cmp(e1, e2), same;
         assert_int_equal(res, want);
         decided++;
-        mpq_t X1, Y1, R1, X2, Y2, R2;
-        mpq_inits(X1, Y1, R1, X2, Y2, R2, NULL);
-        q_circle(t1[0], t1[1], t1[2], X1, Y1, R1);
-        q_circle(t2[0], t2[1], t2[2], X2, Y2, R2);
-        if (q_cmp_sum_sqrt(Y1, R1, Y2, R2) == 0) {
-            equal_tops++;
-            same_circle += mpq_equal(X1, X2) != 0;
-        }
-        mpq_clears(X1, Y1, R1, X2, Y2, R2, NULL);
+        equal_tops += q_equal_tops(e1, e2, &same);
+        same_circle += same;
     next:;
     }
     print_message("box_cmp: %d decided (%d equal tops, %d the same circle), "
@@ -881,6 +888,59 @@ static void test_box_cmp(void **state) {
     assert_true(equal_tops - same_circle > 1000);
     assert_true(same_circle > 1000);
     assert_true(declined > 3000);
+}
+
+/* Triangles with two sites of equal x (a grid of decimal spacing with
+ * holes makes them) against their images turned upside down or by half
+ * a turn, then moved: placed so that the tops are equal (where the
+ * rounding lets them be) or not. vor__fortune_translate_cmp must find
+ * them and decide as the exact order does. */
+static void test_turned_cmp(void **state) {
+    (void)state;
+    vt_rng r = {4545};
+    print_message("turned_cmp: seed 4545\n");
+    int made[2] = {0, 0}, found[2] = {0, 0}, equal_tops = 0;
+    for (int it = 0; it < 20000; it++) {
+        double i = (double)(vt_next(&r) % 1000), j = (double)(vt_next(&r) % 1000);
+        int span = 1 + (int)(vt_next(&r) % 3);
+        double k = (double)(vt_next(&r) % 5) - 2, m = (double)(vt_next(&r) % 5) - 1;
+        if (k == 0) continue;
+        double t1[3][2] = {{0.37 * i, 0.11 * j},
+                           {0.37 * i, 0.11 * (j + span)},
+                           {0.37 * (i + k), 0.11 * (j + m)}};
+        if (!make_ccw(t1)) continue;
+        int half = it % 2;
+        /* t2 = T(t1) + w, w.y = p.y + q.y (equal tops) or that plus a row */
+        double wx = 0.37 * (double)(vt_next(&r) % 1000);
+        double wy = t1[0][0] == t1[1][0]   ? t1[0][1] + t1[1][1]
+                    : t1[1][0] == t1[2][0] ? t1[1][1] + t1[2][1]
+                                           : t1[0][1] + t1[2][1];
+        if (vt_next(&r) % 3 == 0) wy += 0.11;
+        double t2[3][2];
+        for (int a = 0; a < 3; a++) {
+            const double *q = half ? t1[a] : t1[2 - a];
+            t2[a][0] = (half ? -q[0] : q[0]) + wx;
+            t2[a][1] = -q[1] + wy;
+        }
+        made[half]++;
+        const double *e1[3] = {t1[0], t1[1], t1[2]},
+                     *e2[3] = {t2[0], t2[1], t2[2]};
+        int res;
+        if (!vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                        t2[2], 0, &res) &&
+            !vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                        t2[2], 1, &res))
+            continue;
+        found[half]++;
+        int want = q_event_cmp(e1, e2);
+        assert_int_equal(res, want);
+        equal_tops += q_equal_tops(e1, e2, NULL);
+    }
+    print_message("turned_cmp: upside down %d of %d found, half turns %d of "
+                  "%d, %d at equal tops\n",
+                  found[0], made[0], found[1], made[1], equal_tops);
+    assert_true(found[0] > made[0] / 4 && found[1] > made[1] / 4);
+    assert_true(equal_tops > 1000);
 }
 
 /* Triangles of two sites on one row and a third on another, as a
@@ -932,12 +992,7 @@ static void test_level_cmp(void **state) {
         int want = q_event_cmp(e1, e2);
         assert_int_equal(res, want);
         decided++;
-        mpq_t X1, Y1, R1, X2, Y2, R2;
-        mpq_inits(X1, Y1, R1, X2, Y2, R2, NULL);
-        q_circle(e1[0], e1[1], e1[2], X1, Y1, R1);
-        q_circle(e2[0], e2[1], e2[2], X2, Y2, R2);
-        equal_tops += q_cmp_sum_sqrt(Y1, R1, Y2, R2) == 0;
-        mpq_clears(X1, Y1, R1, X2, Y2, R2, NULL);
+        equal_tops += q_equal_tops(e1, e2, NULL);
     next:;
     }
     print_message("level_cmp: %d decided (%d equal tops), %d declined\n",
@@ -1514,6 +1569,7 @@ int main(void) {
         cmocka_unit_test(test_circle_cmp),
         cmocka_unit_test(test_box_cmp),
         cmocka_unit_test(test_level_cmp),
+        cmocka_unit_test(test_turned_cmp),
         cmocka_unit_test(test_trivial_inputs),
         cmocka_unit_test(test_equal_y_first),
         cmocka_unit_test(test_site_below_breakpoint),
