@@ -1255,11 +1255,12 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
 }
 
 /* Order of the events of records r1, r2 whose float intervals overlap (see
- * ev_before): cheapest first, two cells of a grid compare in sums, two
- * circles known exactly in doubles prove equal tops, translates compare
- * by their vector, the double-double bounds separate nearly equal ones, and the
- * integer comparison of the two tops decides the rest. Events at the same point are ordered by record index (any fixed
- * order would do). */
+ * ev_before): cheapest first. Two cells of a grid compare in sums, two
+ * circles known exactly in doubles prove equal tops, translates (and
+ * their images) compare by their vector, level triangles of equal width
+ * by their apexes, the double-double bounds separate nearly equal tops,
+ * and the integer comparison of the two tops decides the rest. Events at
+ * the same point are ordered by record index (any fixed order would do). */
 static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     const double *e1, *e2, *d1, *d2;
     const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;

@@ -495,7 +495,8 @@ static void test_circle_top_bounds(void **state) {
         double sx = 0x1p-17 * 0.01 * (double)(1 + vt_next(&r) % 100),
                sy = ldexp(0.01 * (double)(1 + vt_next(&r) % 100),
                           it % 8 == 7 ? -200 : -10);
-        double i = (double)(vt_next(&r) % 100000), j = (double)(vt_next(&r) % 1000);
+        double i = (double)(vt_next(&r) % 100000),
+               j = (double)(vt_next(&r) % 1000);
         int span = 1 + (int)(vt_next(&r) % 3);
         double t[3][2] = {{sx * i, sy * j},
                           {sx * (i + 2 * span), sy * j},
@@ -863,8 +864,10 @@ static void test_box_cmp(void **state) {
             break;
         }
         double t1[3][2], t2[3][2];
-        box_triple(t1, x[0], y[0], (int)(vt_next(&r) % 4), (int)(vt_next(&r) % 3));
-        box_triple(t2, x[1], y[1], (int)(vt_next(&r) % 4), (int)(vt_next(&r) % 3));
+        for (int b = 0; b < 2; b++) {
+            int skip = (int)(vt_next(&r) % 4);
+            box_triple(b ? t2 : t1, x[b], y[b], skip, (int)(vt_next(&r) % 3));
+        }
         if (it % 10 == 9) t2[1][0] = nextafter(t2[1][0], INFINITY); /* no box */
         const double *e1[3] = {t1[0], t1[1], t1[2]},
                      *e2[3] = {t2[0], t2[1], t2[2]};
@@ -901,9 +904,11 @@ static void test_turned_cmp(void **state) {
     print_message("turned_cmp: seed 4545\n");
     int made[2] = {0, 0}, found[2] = {0, 0}, equal_tops = 0;
     for (int it = 0; it < 20000; it++) {
-        double i = (double)(vt_next(&r) % 1000), j = (double)(vt_next(&r) % 1000);
+        double i = (double)(vt_next(&r) % 1000),
+               j = (double)(vt_next(&r) % 1000);
         int span = 1 + (int)(vt_next(&r) % 3);
-        double k = (double)(vt_next(&r) % 5) - 2, m = (double)(vt_next(&r) % 5) - 1;
+        double k = (double)(vt_next(&r) % 5) - 2,
+               m = (double)(vt_next(&r) % 5) - 1;
         if (k == 0) continue;
         double t1[3][2] = {{0.37 * i, 0.11 * j},
                            {0.37 * i, 0.11 * (j + span)},

@@ -411,7 +411,7 @@ static void test_mixed_magnitudes(void **state) {
     }
 }
 
-/* ---- (d) corners of axis-parallel rectangles ------------------------------ */
+/* ---- (d) corners of axis-parallel rectangles ---------------------------- */
 
 /* A grid of any spacing in x and in y (0.37 by 0.11: no small lattice)
  * puts four cocircular sites on every cell; the exact routine answers those
