@@ -685,6 +685,15 @@ static inline dd dd_sqrt(dd x) {
     return fast_two_sum(r0, e.hi / (2 * r0));
 }
 
+/* The index of the point of triangle t whose other two share coordinate
+ * k (k = 1: a level pair; k = 0: a vertical pair), or -1 if no two do (a
+ * triangle has at most one such pair). */
+static inline int odd_one(const double *const t[3], int k) {
+    for (int i = 0; i < 3; i++)
+        if (t[(i + 1) % 3][k] == t[(i + 2) % 3][k]) return i;
+    return -1;
+}
+
 /* The top of the circle through two level sites p, q (p.y == q.y) and a
  * third, v, above them and nearly halfway between them in x: a grid of
  * decimal spacing with a hole makes such triangles of two sites of a row
@@ -706,30 +715,28 @@ static inline dd dd_sqrt(dd x) {
  * two-sum: exact) and that bound in *err, else 0. */
 static int level_top(const double *const t[3], double *top_hi,
                      double *top_lo, double *err) {
-    for (int k = 0; k < 3; k++) {
-        const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
-        if (p[1] != q[1] || !(v[1] > p[1])) continue;
-        dd d2x = dd_add(two_sum(v[0], -p[0]), two_sum(v[0], -q[0]));
-        double d = 0.5 * d2x.hi, a = 0.5 * fabs(q[0] - p[0]), h = v[1] - p[1];
-        double dd2 = d * d, a2 = a * a, h2 = h * h;
-        /* normal magnitudes only: no underflow, no overflow */
-        if (!(h2 >= 0x1p-900 && a2 >= 0x1p-900 && h2 + a2 <= 0x1p900))
-            return 0;
-        if (d != 0 && !(dd2 >= 0x1p-900)) return 0;
-        if (!(dd2 <= 0.25 * (h2 + a2))) return 0;
-        double c0 = (h2 + dd2 - a2) / (2 * h), c1 = (h2 - dd2 + a2) / (2 * h);
-        double eps = dd2 / (sqrt(a2 + c0 * c0) + c1);
-        /* a flat triangle (h tiny beside a) can overflow the centre's
-         * height, and then eps would be 0 or tiny without being so */
-        if (!(c0 * c0 <= DBL_MAX && c1 <= DBL_MAX)) return 0;
-        if (d != 0 && !(eps >= 0x1p-900)) return 0;
-        dd t2 = two_sum(v[1], eps);
-        *top_hi = t2.hi;
-        *top_lo = t2.lo;
-        *err = 0x1p-46 * eps;
-        return 1;
-    }
-    return 0;
+    int k = odd_one(t, 1);
+    if (k < 0) return 0;
+    const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
+    if (!(v[1] > p[1])) return 0;
+    dd d2x = dd_add(two_sum(v[0], -p[0]), two_sum(v[0], -q[0]));
+    double d = 0.5 * d2x.hi, a = 0.5 * fabs(q[0] - p[0]), h = v[1] - p[1];
+    double dd2 = d * d, a2 = a * a, h2 = h * h;
+    /* normal magnitudes only: no underflow, no overflow */
+    if (!(h2 >= 0x1p-900 && a2 >= 0x1p-900 && h2 + a2 <= 0x1p900)) return 0;
+    if (d != 0 && !(dd2 >= 0x1p-900)) return 0;
+    if (!(dd2 <= 0.25 * (h2 + a2))) return 0;
+    double c0 = (h2 + dd2 - a2) / (2 * h), c1 = (h2 - dd2 + a2) / (2 * h);
+    double eps = dd2 / (sqrt(a2 + c0 * c0) + c1);
+    /* a flat triangle (h tiny beside a) can overflow the centre's height,
+     * and then eps would be 0 or tiny without being so */
+    if (!(c0 * c0 <= DBL_MAX && c1 <= DBL_MAX)) return 0;
+    if (d != 0 && !(eps >= 0x1p-900)) return 0;
+    dd t2 = two_sum(v[1], eps);
+    *top_hi = t2.hi;
+    *top_lo = t2.lo;
+    *err = 0x1p-46 * eps;
+    return 1;
 }
 
 /* The centre of the circle through a, b, c less a, (ux, uy), in
@@ -930,14 +937,10 @@ static int moved(const double *const t1[3], const double *const t2[3],
  * other coordinates, p + q, as a two-sum; 0 if there are no such two
  * (k = 1: level sites give the centre's x; k = 0: a vertical pair its y). */
 static int pair_centre(const double *const t[3], int k, dd *sum) {
-    for (int i = 0; i < 3; i++) {
-        const double *p = t[(i + 1) % 3], *q = t[(i + 2) % 3];
-        if (p[k] == q[k]) {
-            *sum = two_sum(p[1 - k], q[1 - k]);
-            return fabs(sum->hi) <= DBL_MAX;
-        }
-    }
-    return 0;
+    int i = odd_one(t, k);
+    if (i < 0) return 0;
+    *sum = two_sum(t[(i + 1) % 3][1 - k], t[(i + 2) % 3][1 - k]);
+    return fabs(sum->hi) <= DBL_MAX;
 }
 
 /* The order of two circles' centres in x by their double-double bounds,
@@ -1019,21 +1022,18 @@ typedef struct level {
 } level;
 
 static int level_of(const double *const t[3], level *L) {
-    for (int k = 0; k < 3; k++) {
-        const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
-        if (p[1] != q[1]) continue;
-        dd e1 = two_sum(v[0], -p[0]), e2 = two_sum(v[0], -q[0]);
-        if (e1.lo != 0 || e2.lo != 0) return 0; /* NaN on overflow too */
-        L->y1 = p[1];
-        L->y0 = v[1];
-        L->w = p[0] < q[0] ? two_sum(q[0], -p[0]) : two_sum(p[0], -q[0]);
-        L->m2 = two_sum(p[0], q[0]);
-        L->d2 = two_sum(e1.hi, e2.hi);
-        if (L->d2.hi < 0) L->d2 = (dd){-L->d2.hi, -L->d2.lo}; /* |2d| */
-        return fabs(L->w.hi) <= DBL_MAX && fabs(L->m2.hi) <= DBL_MAX &&
-               fabs(L->d2.hi) <= DBL_MAX;
-    }
-    return 0;
+    int k = odd_one(t, 1);
+    if (k < 0) return 0;
+    const double *v = t[k], *p = t[(k + 1) % 3], *q = t[(k + 2) % 3];
+    dd e1 = two_sum(v[0], -p[0]), e2 = two_sum(v[0], -q[0]);
+    if (e1.lo != 0 || e2.lo != 0) return 0; /* NaN on overflow too */
+    L->y1 = p[1];
+    L->y0 = v[1];
+    L->w = p[0] < q[0] ? two_sum(q[0], -p[0]) : two_sum(p[0], -q[0]);
+    if (!pair_centre(t, 1, &L->m2)) return 0;
+    L->d2 = two_sum(e1.hi, e2.hi);
+    if (L->d2.hi < 0) L->d2 = (dd){-L->d2.hi, -L->d2.lo}; /* |2d| */
+    return fabs(L->w.hi) <= DBL_MAX && fabs(L->d2.hi) <= DBL_MAX;
 }
 
 int vor__fortune_level_cmp(const double *a1, const double *b1,
