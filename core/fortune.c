@@ -13,9 +13,11 @@
  * Representation.
  *   - Sites: a private copy of the coordinates sorted by (y, x) (a
  *     distribution sort by an estimate of each y's rank that adapts to the
- *     data's scale, see "Sweep rank of a y"), rescaled by a power of two
- *     when that is exact so that the filters of fortune_predicates.h apply
- *     without range tests; orig[] maps back to site indices.
+ *     data's scale, see "Sweep rank of a y"), moved to an origin within
+ *     the data when that is exact and rescaled by a power of two (see
+ *     choose_frame), so that the filters of fortune_predicates.h apply
+ *     without range tests and bound their errors by the data's extent,
+ *     not its distance from zero; orig[] maps back to site indices.
  *   - Beach line: arcs in a flat pool (index 0 is the nil sentinel, freed
  *     arcs are reused), linked as a red-black tree in beach-line order and as
  *     a doubly linked list. A breakpoint is not stored: an arc's site and its
@@ -167,7 +169,7 @@ typedef struct ymap {
 
 typedef struct sweep {
     size_t n;
-    double *xy;     /* 2n, sorted by (y, x), rescaled */
+    double *xy;     /* 2n, sorted by (y, x), moved and rescaled */
     uint32_t *orig; /* n: site index of each sorted site */
     int safe;       /* coordinates in the filters' range */
     int lattice;    /* few bits per coordinate: equal tops are common */
@@ -606,14 +608,24 @@ static keyed *bucket_sort(const ymap *m, keyed *a, keyed *tmp, size_t n) {
     return tmp;
 }
 
-/* Fills w->xy and w->orig: the sites sorted by (y, x), multiplied by
- * `scale` (a power of two for which that is exact), and w->ymap over
+/* Where the sweep puts the origin: an offset per axis, subtracted from
+ * every coordinate, then a power-of-two scale. Both are exact, so every
+ * predicate keeps its sign (each is invariant under translation and
+ * scaling) and the diagram, computed from the input's coordinates, keeps
+ * its bits; only the filters gain. */
+typedef struct frame {
+    double off[2]; /* subtracted from x and y */
+    double scale;
+} frame;
+
+/* Fills w->xy and w->orig: the sites sorted by (y, x), moved and scaled by
+ * frame f (choose_frame: exact), and w->ymap over
  * their y. Fewer than SMALL_SORT sites: sort_range on the whole; otherwise
  * bucket_sort. The sort's two arrays of n keyed sites are the mesh arrays
  * w->tri and w->adj, not yet used (each holds at least n keyed sites, see
  * vor__fortune), so that their pages are touched once: fresh pages cost a
  * fault and zeroing each. */
-static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
+static vor_status sort_sites(sweep *w, const vor_sites *s, frame f) {
     size_t n = s->n;
     keyed *a = (keyed *)(void *)w->tri, *tmp = (keyed *)(void *)w->adj;
     w->xy = malloc(2 * n * sizeof *w->xy);
@@ -622,9 +634,10 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, double scale) {
     if (!w->xy || !w->orig) goto done;
     uint64_t kmin = UINT64_MAX, kmax = 0;
     for (size_t j = 0; j < n; j++) {
-        uint64_t k = dkey(s->xy[2 * j + 1] * scale);
+        /* + 0.0: a y of -0.0 (its offset 0) and 0.0 differ as keys */
+        uint64_t k = dkey((s->xy[2 * j + 1] - f.off[1]) * f.scale + 0.0);
         a[j].k = k;
-        a[j].x = s->xy[2 * j] * scale;
+        a[j].x = (s->xy[2 * j] - f.off[0]) * f.scale;
         a[j].i = (uint32_t)j;
         kmin = k < kmin ? k : kmin;
         kmax = k > kmax ? k : kmax;
@@ -659,16 +672,39 @@ done:
     return st;
 }
 
-/* Chooses the power-of-two scale that brings the largest coordinate into
- * [1, 2) if that is exact (no scaled value becomes subnormal), and tells
- * whether the scaled coordinates satisfy the filters' range condition
- * (every coordinate 0 or in [2^-250, 2), hence every nonzero difference in
- * [2^-302, 4]). */
-static double choose_scale(const vor_sites *s, int *safe, int *lattice) {
+/* The offset of one axis whose values lie in [lo, hi]: the value nearest
+ * zero when all lie within a factor of two of it on one side of zero, so
+ * that every difference with it is exact (Sterbenz); else 0. Data far from
+ * the origin for its extent (projected coordinates in metres, a grid at
+ * 10^15) then sits at the origin, where the filters' error bounds, which
+ * grow with the coordinates' magnitude, are as tight as the data's extent
+ * allows, and where its few significant bits can make a small lattice. */
+static double axis_offset(double lo, double hi) {
+    if (lo > 0 && hi <= 2 * lo) return lo;
+    if (hi < 0 && lo >= 2 * hi) return hi;
+    return 0;
+}
+
+/* Chooses the frame: the offsets (axis_offset), then the power-of-two
+ * scale that brings the largest coordinate into [1, 2) if that is exact
+ * (no scaled value becomes subnormal). Tells whether the coordinates so
+ * moved satisfy the filters' range condition (every coordinate 0 or in
+ * [2^-250, 2), hence every nonzero difference in [2^-302, 4]) and form a
+ * small lattice. */
+static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
+    frame f = {{0, 0}, 1.0};
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (size_t j = 0; j < 2 * s->n; j++) {
+        double v = s->xy[j];
+        lo[j & 1] = v < lo[j & 1] ? v : lo[j & 1];
+        hi[j & 1] = v > hi[j & 1] ? v : hi[j & 1];
+    }
+    f.off[0] = axis_offset(lo[0], hi[0]);
+    f.off[1] = axis_offset(lo[1], hi[1]);
     double mx = 0, mn = INFINITY;
     int lowest = INT32_MAX;
     for (size_t j = 0; j < 2 * s->n; j++) {
-        double v = fabs(s->xy[j]);
+        double v = fabs(s->xy[j] - f.off[j & 1]);
         if (v > mx) mx = v;
         if (v != 0 && v < mn) mn = v;
         uint64_t u;
@@ -682,17 +718,17 @@ static double choose_scale(const vor_sites *s, int *safe, int *lattice) {
     }
     *safe = 0;
     *lattice = 0;
-    if (mx == 0) return 1.0;
+    if (mx == 0) return f;
     int e;
     (void)frexp(mx, &e); /* mx = f 2^e, f in [0.5, 1) */
     /* a small lattice: every coordinate a multiple of 2^lowest below 2^e,
      * e - lowest <= 26 bits (pixels, grids, small integers) */
     *lattice = e - lowest <= 26;
-    double scale = ldexp(1.0, 1 - e > 1023 ? 1023 : 1 - e);
-    if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) scale = 1.0;
-    double smx = mx * scale, smn = mn * scale;
+    f.scale = ldexp(1.0, 1 - e > 1023 ? 1023 : 1 - e);
+    if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) f.scale = 1.0;
+    double smx = mx * f.scale, smn = mn * f.scale;
     *safe = smx < 2.0 && smn >= 0x1p-250;
-    return scale;
+    return f;
 }
 
 /* ---- Mesh output ---------------------------------------------------------
@@ -1903,7 +1939,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.tracing = run->trace != NULL;
     w.s = s;
     vor_status st;
-    double scale = choose_scale(s, &w.safe, &w.lattice);
+    frame f = choose_frame(s, &w.safe, &w.lattice);
     /* 2n triangles' room, of which the mesh uses 2n - 2 (Euler, ghosts
      * included): 24n bytes each for tri and adj, the room of n keyed
      * sites, which the sort borrows first */
@@ -1914,7 +1950,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.tri = vor__alloc_large(3 * w.cap_tri, sizeof *w.tri);
     w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
     if (!w.tri || !w.adj) goto fail;
-    if ((st = sort_sites(&w, s, scale)) != VOR_OK) goto fail;
+    if ((st = sort_sites(&w, s, f)) != VOR_OK) goto fail;
 
     st = VOR_ENOMEM;
     w.cap_arcs = 64;
@@ -1966,7 +2002,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.orig = NULL;
     sweep_free(&w); /* the beach line, the heap and the edge records */
     /* vertex ids are sweep ranks: the site of rank v is order[v], at
-     * lxy[2v] (rescaled by a power of two, which leaves every predicate's
+     * lxy[2v] (moved and rescaled exactly, which leaves every predicate's
      * sign unchanged) */
     return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run), out);
 

@@ -1210,6 +1210,85 @@ static void test_decimal_grid(void **state) {
         }
 }
 
+/* Fortune's counts on xy (n sites) into *c; the diagram must be right. */
+static void counts_of(const char *name, const double *xy, size_t n,
+                      vor_counts *c) {
+    check_points(name, xy, n, 1);
+    vor_options o = {c, NULL, NULL};
+    vor_sites *s = sites_of(xy, n);
+    vor_diagram *f = NULL;
+    assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);
+    vor_diagram_free(f);
+    vor_sites_free(s);
+}
+
+/* Data far from the origin for its extent: the sweep moves it to an
+ * origin within it (choose_frame), exactly, so that a grid at 2^50 is
+ * swept as the same grid at 0 -- every count the same -- and keeps its
+ * lattice. Then the edges of that rule (all coordinates within a factor
+ * of two of the offset, or just beyond it; negative offsets; one axis
+ * moved, the other not) against brute force and the other algorithms. */
+static void test_offset_frames(void **state) {
+    (void)state;
+    vt_rng r = {41};
+    print_message("offset frames: seed 41\n");
+    enum { W = 30, H = 25 };
+    static double base[2 * W * H], moved[2 * W * H];
+    size_t n = 0;
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            if (vt_next(&r) % 4 == 0) continue; /* holes */
+            base[2 * n] = i;
+            base[2 * n + 1] = -j; /* y in [-H + 1, 0]: no offset */
+            n++;
+        }
+    const double ox = 0x1p50, oy = -0x1.8p50; /* ulp 1/4: exact */
+    for (size_t i = 0; i < n; i++) {
+        moved[2 * i] = base[2 * i] + ox;
+        moved[2 * i + 1] = base[2 * i + 1] + oy;
+    }
+    vor_counts cb, cm;
+    counts_of("integer grid with holes", base, n, &cb);
+    counts_of("the grid at (2^50, -1.5 2^50)", moved, n, &cm);
+    assert_int_equal(cm.site_events, cb.site_events);
+    assert_int_equal(cm.circle_events, cb.circle_events);
+    assert_int_equal(cm.breakpoint_tests, cb.breakpoint_tests);
+    assert_int_equal(cm.circle_tops, cb.circle_tops);
+    assert_int_equal(cm.event_compares, cb.event_compares);
+    assert_int_equal(cm.event_exact, cb.event_exact);
+    assert_int_equal(cm.exact, cb.exact);
+
+    /* random sites in [lo, hi] per axis, some on the bounds, on a grid of
+     * step ulp(lo) (every value a double) or coarser */
+    static const double bounds[][2] = {
+        {1, 2},                   /* hi = 2 lo: moved by 1 */
+        {1, 0x1.0000000000001p1}, /* just beyond: not moved */
+        {-2, -1},                 /* negative: moved by -1 */
+        {1e15, 1e15 + 1000},      /* ulp 1/8 */
+        {-1e15 - 1000, -1e15},
+        {-1, 1},                  /* across zero: not moved */
+        {0, 1},                   /* from zero: not moved */
+        {0x1p-1000, 0x1p-999},    /* tiny: moved to [0, 2^-1000] */
+    };
+    const size_t nb = sizeof bounds / sizeof bounds[0];
+    for (int k = 0; k < 200; k++) {
+        double xy[2 * 40];
+        const double *bx = bounds[vt_next(&r) % nb];
+        const double *by = bounds[vt_next(&r) % nb];
+        size_t m = 3 + (size_t)(vt_next(&r) % 38);
+        for (size_t i = 0; i < 2 * m; i++) {
+            const double *b = i % 2 ? by : bx;
+            uint64_t pick = vt_next(&r) % 8;
+            double t = (double)(vt_next(&r) % 9) / 8; /* few values: ties */
+            xy[i] = pick == 0   ? b[0]
+                    : pick == 1 ? b[1]
+                                : b[0] + t * (b[1] - b[0]);
+            if (xy[i] > b[1]) xy[i] = b[1];
+        }
+        check_points("offset axes", xy, m, 1);
+    }
+}
+
 /* Rows of equal y: one row is collinear (the degenerate diagram), many
  * rows are not; with integer and random x, and rows of one or two sites. */
 static void test_rows(void **state) {
@@ -1582,6 +1661,7 @@ int main(void) {
         cmocka_unit_test(test_all_cocircular),
         cmocka_unit_test(test_rows),
         cmocka_unit_test(test_decimal_grid),
+        cmocka_unit_test(test_offset_frames),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
