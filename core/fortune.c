@@ -436,20 +436,58 @@ static uint32_t table_shape(ymap_table *t, uint64_t kmin, uint64_t kmax,
     return t->nbins;
 }
 
-/* A quick look before the tables: 1024 of the n >= 4096 sites' y, every
- * (n / 1024)-th, sorted; 1 when each lies within n / 16 of the rank
- * the linear map gives it (a sample's quantiles stray by a few per cent
- * at most for evenly spread y; gaussian y strays by a quarter). */
-static int linear_enough(const keyed *a, size_t n, double y0, double y1) {
-    enum { M = 1024 };
-    keyed smp[M]; /* 24 KiB */
-    for (size_t j = 0; j < M; j++) smp[j] = a[j * (n / M)];
-    sort_range(smp, 0, M);
-    const double scale = (double)M / (y1 - y0);
-    for (size_t j = 0; j < M; j++)
-        if (fabs((kdouble(smp[j].k) - y0) * scale - (double)j) > M / 16.0)
-            return 0;
+/* A quick look before the tables: YSAMPLE of the n >= 4096 sites' y,
+ * every (n / YSAMPLE)-th, sorted. */
+enum { YSAMPLE = 1024 };
+
+static void y_sample(const keyed *a, size_t n, double *smp) {
+    keyed k[YSAMPLE]; /* 24 KiB */
+    for (size_t j = 0; j < YSAMPLE; j++) k[j] = a[j * (n / YSAMPLE)];
+    sort_range(k, 0, YSAMPLE);
+    for (size_t j = 0; j < YSAMPLE; j++) smp[j] = kdouble(k[j].k);
+}
+
+/* 1 when each sampled y lies within n / 16 of the rank the linear map of
+ * [y0, y1] gives it (a sample's quantiles stray by a few per cent at most
+ * for evenly spread y; gaussian y strays by a quarter). Samples beyond
+ * the range count as at its ends. */
+static int linear_enough(const double *smp, double y0, double y1) {
+    const double scale = (double)YSAMPLE / (y1 - y0);
+    for (size_t j = 0; j < YSAMPLE; j++) {
+        double t = (smp[j] - y0) * scale;
+        t = t < 0 ? 0 : t > YSAMPLE ? YSAMPLE : t;
+        if (fabs(t - (double)j) > YSAMPLE / 16.0) return 0;
+    }
     return 1;
+}
+
+/* Narrows [*y0, *y1] to the bulk of the sites when a few stray far from
+ * it (a city and one geocode at (0, 0)): the range of the sample less its
+ * extremes, widened by 8 / YSAMPLE of itself, then the sites' own
+ * extremes within that, provided at most n / 1024 sites lie outside (a
+ * heavy tail is no few strays: the tables serve it). The maps built on
+ * the bulk's range clamp the strays to their ends, which keeps them
+ * monotone; with the whole range, the bulk would share a few cells. One
+ * pass over the keys, only when the range is four times the sample's. */
+static void bulk_range(const keyed *a, size_t n, const double *smp,
+                       double *y0, double *y1) {
+    double s0 = smp[1], s1 = smp[YSAMPLE - 2], wd = s1 - s0;
+    if (!(wd > 0) || !(*y1 - *y0 > 4 * wd)) return;
+    double lo = s0 - wd * (8.0 / YSAMPLE), hi = s1 + wd * (8.0 / YSAMPLE);
+    double b0 = INFINITY, b1 = -INFINITY;
+    size_t out = 0;
+    for (size_t j = 0; j < n; j++) {
+        double y = kdouble(a[j].k);
+        if (y < lo || y > hi) {
+            out++;
+            continue;
+        }
+        b0 = y < b0 ? y : b0;
+        b1 = y > b1 ? y : b1;
+    }
+    if (out > n / 1024 || !(b1 > b0)) return;
+    *y0 = b0;
+    *y1 = b1;
 }
 
 /* The grid of equal y steps over [y0, y1] (see ymap), kept in m->grid
@@ -462,8 +500,8 @@ static vor_status grid_build(ymap *m, const keyed *a, size_t n, double y0,
     uint32_t *g = calloc(YMAP_GRID + 2, sizeof *g);
     if (!g) return VOR_ENOMEM;
     for (size_t j = 0; j < n; j++) {
-        double t = (kdouble(a[j].k) - y0) * gs;
-        uint32_t c = t >= YMAP_GRID ? YMAP_GRID - 1 : (uint32_t)t;
+        double t = (kdouble(a[j].k) - y0) * gs; /* < 0: a stray below */
+        uint32_t c = t >= YMAP_GRID ? YMAP_GRID - 1 : t > 0 ? (uint32_t)t : 0;
         g[c + 1]++;
     }
     uint32_t most = 0;
@@ -499,12 +537,17 @@ static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
     memset(m, 0, sizeof *m);
     double y0 = kdouble(kmin), y1 = kdouble(kmax);
     m->n = (uint32_t)n;
-    m->y0 = y0;
-    m->scale = (double)n / (y1 - y0);
-    if (try_linear && m->scale > 0 && m->scale <= DBL_MAX && n >= 4096 &&
-        linear_enough(a, n, y0, y1)) {
-        m->linear = 1; /* no tables: the sample says they would agree */
-        return VOR_OK;
+    if (n >= 4096) {
+        double smp[YSAMPLE];
+        y_sample(a, n, smp);
+        bulk_range(a, n, smp, &y0, &y1);
+        m->y0 = y0;
+        m->scale = (double)n / (y1 - y0);
+        if (try_linear && m->scale > 0 && m->scale <= DBL_MAX &&
+            linear_enough(smp, y0, y1)) {
+            m->linear = 1; /* no tables: the sample says they would agree */
+            return VOR_OK;
+        }
     }
     if (grid_build(m, a, n, y0, y1) != VOR_OK) return VOR_ENOMEM;
     if (m->grid) return VOR_OK;

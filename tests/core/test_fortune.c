@@ -1472,6 +1472,32 @@ static void test_sort_paths(void **state) {
     for (size_t i = 0; i < n; i++) xy[2 * i + 1] = (double)(i % 7);
     check_points("seven rows of equal y", xy, n, 1);
     free(xy);
+    /* a bulk and a few strays, at sizes whose maps are fitted to the bulk
+     * (bulk_range): the strays' ranks clamp to the ends, in the sort and
+     * in the event buckets; up to n / 1024 strays, and more (the whole
+     * range); an even bulk (the linear map) and a gaussian one (the grid) */
+    n = 20000;
+    xy = vt_uniform(n, 24);
+    assert_non_null(xy);
+    for (int k = 0; k < 8; k++) {
+        const size_t strays[] = {1, 1, 2, 19, 20, 40, 3, 19};
+        for (size_t i = 0; i < n; i++) {
+            double u = vt_unit(&r), v = vt_unit(&r);
+            xy[2 * i] = 8.45 + 0.1 * u;
+            xy[2 * i + 1] = k >= 6 ? 47.3 + 0.01 * vt_gauss(&r)
+                                   : 47.25 + 0.1 * v;
+        }
+        for (size_t j = 0; j < strays[k]; j++) {
+            size_t i = (size_t)(vt_next(&r) % n);
+            xy[2 * i] = -100 + 200 * vt_unit(&r);
+            xy[2 * i + 1] = k == 1 || (k >= 4 && j % 2) ? 1e6 : -1e3 * (double)j;
+        }
+        char name[80];
+        snprintf(name, sizeof name, "a %s city and %zu strays",
+                 k >= 6 ? "gaussian" : "square", strays[k]);
+        check_points(name, xy, n, 1);
+    }
+    free(xy);
     for (size_t k = 15; k <= 18; k++) {
         double *u = vt_uniform(k, 22 + (unsigned)k);
         assert_non_null(u);
