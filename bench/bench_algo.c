@@ -26,9 +26,11 @@
  *   check   verifies a triangulation of a points file exactly: indices in
  *           range, every triangle strictly counter-clockwise, every edge in
  *           at most two triangles and in opposite directions, every interior
- *           edge locally Delaunay (vor_incircle), every point used, and the
- *           triangle count equal to 2n - 2 - h, with h the points on the
- *           convex hull's boundary from an independent monotone chain. Also
+ *           edge locally Delaunay (vor_incircle), every distinct point used
+ *           (duplicates are one site, named by any of their indices), and
+ *           the triangle count equal to 2n - 2 - h, with n the distinct
+ *           points and h those on the convex hull's boundary from an
+ *           independent monotone chain. Also
  *           counts Voronoi vertices (triangles merged across cocircular
  *           edges) to compare with our diagram.
  *
@@ -635,6 +637,10 @@ static int cmd_ours(const opts *o) {
     uint32_t *tri = NULL;
     size_t nt = 0;
     st = vor_diagram_triangles(d, sites, &tri, &nt);
+    /* the file names input points, as the peers' do: a site is its first
+     * occurrence */
+    for (size_t i = 0; st == VOR_OK && i < 3 * nt; i++)
+        tri[i] = sites->input_of[tri[i]];
     if (st == VOR_OK && o->tris && bu_write_file(o->tris, tri, nt * 12) != 0)
         st = VOR_EINVAL;
     printf("RESULT name=%s n=%zu ms=%.3f min_ms=%.3f runs=%d peak_bpp=%.1f "
@@ -673,11 +679,16 @@ static int cmp_by_key(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-/* Number of points on the boundary of the convex hull (vertices and points
- * inside hull edges), by Andrew's monotone chain that pops only on strict
- * right turns; -1 on allocation failure, -2 if two points are equal. */
-static long hull_boundary(const double *xy, size_t n) {
-    uint32_t *idx = malloc(sizeof *idx * n), *h = malloc(sizeof *h * 2 * n);
+/* Number of points on the boundary of the convex hull of the distinct
+ * points (vertices and points inside hull edges), by Andrew's monotone
+ * chain that pops only on strict right turns; -1 on allocation failure.
+ * canon[i] receives the smallest index of the points equal to point i,
+ * and *distinct their number: duplicates are one site, whichever index
+ * a triangulation names it by. */
+static long hull_boundary(const double *xy, size_t n, uint32_t *canon,
+                          size_t *distinct) {
+    uint32_t *idx = malloc(sizeof *idx * (n ? n : 1)),
+             *h = malloc(sizeof *h * 2 * (n ? n : 1));
     long count = -1;
     if (!idx || !h)
         goto out;
@@ -685,20 +696,25 @@ static long hull_boundary(const double *xy, size_t n) {
         idx[i] = (uint32_t)i;
     g_xy = xy;
     qsort(idx, n, sizeof *idx, cmp_lex);
-    for (size_t i = 1; i < n; i++)
-        if (cmp_lex(&idx[i - 1], &idx[i]) == 0) {
-            count = -2;
-            goto out;
-        }
+    size_t m = 0; /* distinct points, each its smallest index, in idx[0..m) */
+    for (size_t i = 0, j; i < n; i = j) {
+        uint32_t least = idx[i];
+        for (j = i + 1; j < n && cmp_lex(&idx[i], &idx[j]) == 0; j++)
+            least = idx[j] < least ? idx[j] : least;
+        for (size_t k = i; k < j; k++)
+            canon[idx[k]] = least;
+        idx[m++] = least;
+    }
+    *distinct = m;
     size_t k = 0;
-    for (size_t i = 0; i < n; i++) { /* lower chain */
+    for (size_t i = 0; i < m; i++) { /* lower chain */
         while (k >= 2 && vor_orient2d(xy + 2 * h[k - 2], xy + 2 * h[k - 1],
                                       xy + 2 * idx[i]) < 0)
             k--;
         h[k++] = idx[i];
     }
     size_t lower = k;
-    for (size_t i = n - 1; i-- > 0;) { /* upper chain */
+    for (size_t i = m - 1; m > 1 && i-- > 0;) { /* upper chain */
         while (k >= lower + 1 &&
                vor_orient2d(xy + 2 * h[k - 2], xy + 2 * h[k - 1],
                             xy + 2 * idx[i]) < 0)
@@ -760,7 +776,9 @@ static int cmd_check(const opts *o) {
     uint32_t *by_key = malloc(sizeof *by_key * (m ? m : 1));
     uint32_t *uf = malloc(sizeof *uf * (nt ? nt : 1));
     uint8_t *used = calloc(n ? n : 1, 1);
-    long h = hull_boundary(xy, n);
+    uint32_t *canon = malloc(sizeof *canon * (n ? n : 1));
+    size_t distinct = 0;
+    long h = canon ? hull_boundary(xy, n, canon, &distinct) : -1;
     if (!key || !by_key || !uf || !used || h == -1) {
         fputs("check: out of memory\n", stderr);
         return 2;
@@ -771,9 +789,11 @@ static int cmd_check(const opts *o) {
         if (v[0] >= n || v[1] >= n || v[2] >= n) {
             bad_index++;
             v[0] = v[1] = v[2] = 0;
-        } else if (vor_orient2d(xy + 2 * v[0], xy + 2 * v[1],
-                                xy + 2 * v[2]) <= 0) {
-            bad_orient++;
+        } else {
+            for (int k = 0; k < 3; k++) /* one name per site */
+                v[k] = canon[v[k]];
+            if (vor_orient2d(xy + 2 * v[0], xy + 2 * v[1], xy + 2 * v[2]) <= 0)
+                bad_orient++;
         }
         for (int k = 0; k < 3; k++) {
             used[v[k]] = 1;
@@ -810,17 +830,17 @@ static int cmd_check(const opts *o) {
         }
     }
     for (size_t i = 0; i < n; i++)
-        unused += !used[i];
+        unused += canon[i] == i && !used[i];
     for (size_t i = 0; i < nt; i++)
         vertices += uf_find(uf, (uint32_t)i) == i;
-    long expected = h >= 0 ? 2 * (long)n - 2 - h : -1;
+    long expected = h >= 0 ? 2 * (long)distinct - 2 - h : -1;
     int ok = bad_index == 0 && bad_orient == 0 && bad_edges == 0 &&
              bad_delaunay == 0 && unused == 0 && h >= 0 &&
              (long)nt == expected && (long)boundary == h;
-    printf("RESULT check=%s n=%zu triangles=%zu expected=%ld hull=%ld "
-           "boundary_edges=%zu bad_index=%zu bad_orient=%zu bad_edges=%zu "
-           "bad_delaunay=%zu unused=%zu voronoi_vertices=%zu\n",
-           ok ? "ok" : "WRONG", n, nt, expected, h, boundary, bad_index,
+    printf("RESULT check=%s n=%zu distinct=%zu triangles=%zu expected=%ld "
+           "hull=%ld boundary_edges=%zu bad_index=%zu bad_orient=%zu "
+           "bad_edges=%zu bad_delaunay=%zu unused=%zu voronoi_vertices=%zu\n",
+           ok ? "ok" : "WRONG", n, distinct, nt, expected, h, boundary, bad_index,
            bad_orient, bad_edges, bad_delaunay, unused, vertices);
     free(xy);
     free(t);
@@ -828,6 +848,7 @@ static int cmd_check(const opts *o) {
     free(by_key);
     free(uf);
     free(used);
+    free(canon);
     return ok ? 0 : 1;
 }
 
