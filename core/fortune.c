@@ -1990,8 +1990,8 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
                    "the sort fits in the mesh arrays");
     st = VOR_ENOMEM;
     w.cap_tri = 2 * w.n;
-    w.tri = vor__alloc_large(3 * w.cap_tri, sizeof *w.tri);
-    w.adj = vor__alloc_large(3 * w.cap_tri, sizeof *w.adj);
+    w.tri = vor__alloc_random(3 * w.cap_tri, sizeof *w.tri);
+    w.adj = vor__alloc_random(3 * w.cap_tri, sizeof *w.adj);
     if (!w.tri || !w.adj) goto fail;
     if ((st = sort_sites(&w, s, f)) != VOR_OK) goto fail;
 

@@ -67,13 +67,22 @@ void vor__bbox(const double *xy, size_t n, double box[4]);
 
 /* ---- Big arrays (core/mesh.c) ---------------------------------------------
  * malloc(count * size) (NULL on overflow or failure; free with free()) for
- * the big arrays of the sites, the mesh and the diagram: a block of 4 MiB
- * or more is advised to the kernel as a candidate for huge pages (Linux's
- * MADV_HUGEPAGE, where available; a hint, errors ignored). Arrays of a
- * million sites are visited at random; with 4 KiB pages nearly every such
- * visit misses the TLB, and touching them first costs a page fault per
- * 4 KiB. */
+ * the big arrays of the sites, the order and the diagram. */
 void *vor__alloc_large(size_t count, size_t size);
+/* The same for the arrays visited at random for the whole construction:
+ * the mesh and the coordinates in insertion (or sweep) order. A block of
+ * 4 MiB or more is advised to the kernel as a candidate for huge pages
+ * (Linux's MADV_HUGEPAGE, where available; a hint, errors ignored): at a
+ * million sites nearly every visit of such an array misses the TLB with
+ * 4 KiB pages. Only these: a huge page takes a free 2 MiB block, and on a
+ * virtual machine that reports free blocks of that size to its host (a
+ * virtio balloon with free page reporting) such a block is often no
+ * longer backed, so that its first touch costs a host fault for every
+ * 4 KiB in it, about 2 ns a byte, where 4 KiB faults are served from
+ * pages freed a moment ago. Advising every big array made cold runs at
+ * 10^6 sites a quarter slower there than advising none; advising these
+ * makes them a few per cent faster. */
+void *vor__alloc_random(size_t count, size_t size);
 /* The same, zeroed (calloc: a fresh mapping is not written twice). */
 void *vor__calloc_large(size_t count, size_t size);
 /* A zeroed scratch array that dies before the computation's peak (NULL on
