@@ -479,13 +479,13 @@ static void bulk_range(const keyed *a, size_t n, const double *smp,
     for (size_t j = 0; j < n; j++) {
         double y = kdouble(a[j].k);
         if (y < lo || y > hi) {
-            out++;
+            if (++out > n / 1024) return; /* a tail: stop here */
             continue;
         }
         b0 = y < b0 ? y : b0;
         b1 = y > b1 ? y : b1;
     }
-    if (out > n / 1024 || !(b1 > b0)) return;
+    if (!(b1 > b0)) return;
     *y0 = b0;
     *y1 = b1;
 }
