@@ -83,7 +83,8 @@ void *vor__alloc_large(size_t count, size_t size);
  * 10^6 sites a quarter slower there than advising none; advising these
  * makes them a few per cent faster. */
 void *vor__alloc_random(size_t count, size_t size);
-/* The same, zeroed (calloc: a fresh mapping is not written twice). */
+/* vor__alloc_large, zeroed (calloc: a fresh mapping is not written
+ * twice). */
 void *vor__calloc_large(size_t count, size_t size);
 /* A zeroed scratch array that dies before the computation's peak (NULL on
  * overflow or failure; free with vor__scratch_free, which takes NULL). A

@@ -180,9 +180,9 @@ static inline int in_polygon(const uint8_t *cc, uint32_t t) {
     return is_cc(cc, 3 * t) | is_cc(cc, 3 * t + 1) | is_cc(cc, 3 * t + 2);
 }
 
-/* The conversion's arrays: each is written or read in one pass of its own
- * order, so huge pages gain them little and cost a cold run more than that
- * (internal.h, vor__alloc_random). */
+/* The conversion's arrays, without huge pages: each is visited by one or
+ * two passes only, and advising them cost cold runs more than their TLB
+ * misses do (internal.h, vor__alloc_random). */
 static void *xmalloc(size_t count, size_t size) {
     return vor__alloc_large(count, size);
 }
