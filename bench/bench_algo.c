@@ -721,7 +721,7 @@ static long hull_boundary(const double *xy, size_t n, uint32_t *canon,
             k--;
         h[k++] = idx[i];
     }
-    count = (long)k - 1; /* the first point closes the chain */
+    count = k ? (long)k - 1 : 0; /* the first point closes the chain */
 out:
     free(idx);
     free(h);

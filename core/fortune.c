@@ -677,8 +677,7 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, frame f) {
     if (!w->xy || !w->orig) goto done;
     uint64_t kmin = UINT64_MAX, kmax = 0;
     for (size_t j = 0; j < n; j++) {
-        /* + 0.0: a y of -0.0 (its offset 0) and 0.0 differ as keys */
-        uint64_t k = dkey((s->xy[2 * j + 1] - f.off[1]) * f.scale + 0.0);
+        uint64_t k = dkey((s->xy[2 * j + 1] - f.off[1]) * f.scale);
         a[j].k = k;
         a[j].x = (s->xy[2 * j] - f.off[0]) * f.scale;
         a[j].i = (uint32_t)j;
@@ -736,14 +735,10 @@ static double axis_offset(double lo, double hi) {
  * small lattice. */
 static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
     frame f = {{0, 0}, 1.0};
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (size_t j = 0; j < 2 * s->n; j++) {
-        double v = s->xy[j];
-        lo[j & 1] = v < lo[j & 1] ? v : lo[j & 1];
-        hi[j & 1] = v > hi[j & 1] ? v : hi[j & 1];
-    }
-    f.off[0] = axis_offset(lo[0], hi[0]);
-    f.off[1] = axis_offset(lo[1], hi[1]);
+    double box[4];
+    vor__bbox(s->xy, s->n, box);
+    f.off[0] = axis_offset(box[0], box[2]);
+    f.off[1] = axis_offset(box[1], box[3]);
     double mx = 0, mn = INFINITY;
     int lowest = INT32_MAX;
     for (size_t j = 0; j < 2 * s->n; j++) {

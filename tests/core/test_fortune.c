@@ -1170,6 +1170,18 @@ static void test_grid_1000(void **state) {
  * size along a row (their circles' tops equal), whole or with holes; and
  * triangular ones (every other row shifted by half a step), whose
  * triangles are isosceles but for the rounding. */
+/* Fortune's counts on xy (n sites) into *c; the diagram must be right. */
+static void counts_of(const char *name, const double *xy, size_t n,
+                      vor_counts *c) {
+    check_points(name, xy, n, 1);
+    vor_options o = {c, NULL, NULL};
+    vor_sites *s = sites_of(xy, n);
+    vor_diagram *f = NULL;
+    assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);
+    vor_diagram_free(f);
+    vor_sites_free(s);
+}
+
 static void test_decimal_grid(void **state) {
     (void)state;
     vt_rng r = {37};
@@ -1193,33 +1205,15 @@ static void test_decimal_grid(void **state) {
             snprintf(name, sizeof name, "%s grid %zux%zu%s",
                      tri ? "triangular decimal" : "decimal", dims[d % 2][0],
                      dims[d % 2][1], holes ? " with holes" : "");
-            check_points(name, xy, n, 1);
+            vor_counts c;
+            counts_of(name, xy, n, &c);
             if (holes) continue;
             /* ties of cells' circles, and of the triangles of a triangular
              * grid, are decided by sums of coordinates, never by the exact
              * comparison of two tops */
-            vor_counts c;
-            vor_options o = {&c, NULL, NULL};
-            vor_sites *s = sites_of(xy, n);
-            vor_diagram *f = NULL;
-            assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);
             assert_true(c.event_compares > 0);
             assert_int_equal(c.event_exact, 0);
-            vor_diagram_free(f);
-            vor_sites_free(s);
         }
-}
-
-/* Fortune's counts on xy (n sites) into *c; the diagram must be right. */
-static void counts_of(const char *name, const double *xy, size_t n,
-                      vor_counts *c) {
-    check_points(name, xy, n, 1);
-    vor_options o = {c, NULL, NULL};
-    vor_sites *s = sites_of(xy, n);
-    vor_diagram *f = NULL;
-    assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);
-    vor_diagram_free(f);
-    vor_sites_free(s);
 }
 
 /* Data far from the origin for its extent: the sweep moves it to an
