@@ -1665,16 +1665,21 @@ static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
 }
 
 /* Narrows record r's interval [*lo, *hi] by its double-double bounds when
- * it is wide. Nearly collinear triples (sites on a circle make every
- * triple so) have huge circles whose tops the double filter bounds
- * loosely where their differences are not exact (see
- * vor__fortune_circle_top); their intervals overlap, and every comparison of two such
- * events would read both records' bounds. Computed here once, the bounds
- * shrink the interval to a few ulps, and the queue's plain interval test
- * separates the tops from then on. The margin 2m covers the rounding of
+ * it is wide. Nearly collinear triples have huge circles whose tops the
+ * double filter bounds loosely where their differences are not exact (see
+ * vor__fortune_circle_top); their intervals overlap, and every comparison
+ * of two such events would read both records' bounds. Computed here once,
+ * the bounds shrink the interval to a few ulps, and the queue's plain
+ * interval test separates the tops from then on. Only for intervals wider
+ * than 2^-30 of the top: the filter's own refinement of nearly collinear
+ * triples keeps those of sites on a circle near 2^-45, and the thin
+ * triangles of sites in columns or on a parabola come out between 2^-40
+ * and 2^-28, which separates their tops almost always; bounds for each of
+ * those cost a sixth of the run, and the few comparisons that do overlap compute
+ * them when they need them (ev_tie). The margin 2m covers the rounding of
  * t and of t -+ 2m: |t - (d0 + d1)| <= |t| 2^-53. */
 static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
-    if (w->lattice || !(*hi - *lo > (fabs(*lo) + fabs(*hi)) * 0x1p-40))
+    if (w->lattice || !(*hi - *lo > (fabs(*lo) + fabs(*hi)) * 0x1p-30))
         return;
     const double *d;
     if (!event_dd(w, r, &d)) return;
