@@ -1165,11 +1165,6 @@ static void test_grid_1000(void **state) {
     free(xy);
 }
 
-/* Grids of decimal spacing (0.37 by 0.11, not a small lattice in
- * binary): every cell four cocircular sites, many cells of exactly equal
- * size along a row (their circles' tops equal), whole or with holes; and
- * triangular ones (every other row shifted by half a step), whose
- * triangles are isosceles but for the rounding. */
 /* Fortune's counts on xy (n sites) into *c; the diagram must be right. */
 static void counts_of(const char *name, const double *xy, size_t n,
                       vor_counts *c) {
@@ -1182,6 +1177,11 @@ static void counts_of(const char *name, const double *xy, size_t n,
     vor_sites_free(s);
 }
 
+/* Grids of decimal spacing (0.37 by 0.11, not a small lattice in
+ * binary): every cell four cocircular sites, many cells of exactly equal
+ * size along a row (their circles' tops equal), whole or with holes; and
+ * triangular ones (every other row shifted by half a step), whose
+ * triangles are isosceles but for the rounding. */
 static void test_decimal_grid(void **state) {
     (void)state;
     vt_rng r = {37};
@@ -1213,6 +1213,57 @@ static void test_decimal_grid(void **state) {
              * comparison of two tops */
             assert_true(c.event_compares > 0);
             assert_int_equal(c.event_exact, 0);
+        }
+}
+
+/* Sites along curves fall in the arc of one of the last two sites split
+ * in, which the sweep tries before a search of the beach line
+ * (locate_near), as long as most sites lately did. On a parabola, an
+ * arc of a circle, a spiral and near a line, each with random sites
+ * mixed in at a rate that turns the fingers off and on again, against
+ * brute force and the other algorithms; near a line, where nearly every
+ * site falls in the last one's arc, the sweep must then take about two
+ * breakpoint tests a site (a search takes a dozen at this size). */
+static void test_curves(void **state) {
+    (void)state;
+    enum { N = 2000 };
+    static double xy[2 * N];
+    static const char *const shapes[] = {"parabola", "arc of a circle",
+                                         "spiral", "near a line"};
+    static const int stray[] = {0, 3, 20}; /* random sites, per cent */
+    vt_rng r = {59};
+    print_message("curves: seed 59\n");
+    for (int shape = 0; shape < 4; shape++)
+        for (int k = 0; k < 3; k++) {
+            for (size_t i = 0; i < N; i++) {
+                double u = vt_unit(&r), x, y;
+                if ((int)(vt_next(&r) % 100) < stray[k]) {
+                    x = 2 * u - 1;
+                    y = vt_unit(&r);
+                } else if (shape == 0) {
+                    x = 2 * u - 1;
+                    y = x * x;
+                } else if (shape == 1) {
+                    x = cos(3 * u);
+                    y = sin(3 * u);
+                } else if (shape == 2) {
+                    double t = 30 * sqrt(u);
+                    x = t * cos(t);
+                    y = t * sin(t);
+                } else {
+                    x = u;
+                    y = 0.5 * u + 1e-9 * vt_gauss(&r);
+                }
+                xy[2 * i] = x;
+                xy[2 * i + 1] = y;
+            }
+            char name[64];
+            snprintf(name, sizeof name, "%s, %d%% random sites", shapes[shape],
+                     stray[k]);
+            vor_counts c;
+            counts_of(name, xy, N, &c);
+            if (shape == 3 && stray[k] == 0)
+                assert_true(c.breakpoint_tests < 3 * (uint64_t)N);
         }
 }
 
@@ -1682,6 +1733,7 @@ int main(void) {
         cmocka_unit_test(test_rows),
         cmocka_unit_test(test_decimal_grid),
         cmocka_unit_test(test_offset_frames),
+        cmocka_unit_test(test_curves),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
