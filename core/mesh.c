@@ -60,6 +60,22 @@ static void advise_huge(void *p, size_t bytes) {
 #endif
 }
 
+/* Maps the whole pages inside a block of bytes at p, writable, now. */
+static void populate(void *p, size_t bytes) {
+#if defined(MADV_POPULATE_WRITE)
+    const uintptr_t page = 4096, big = (uintptr_t)1 << 20;
+    if (p && bytes >= big) {
+        uintptr_t lo = ((uintptr_t)p + page - 1) & ~(page - 1);
+        uintptr_t hi = ((uintptr_t)p + bytes) & ~(page - 1);
+        if (hi > lo)
+            (void)madvise((void *)lo, hi - lo, MADV_POPULATE_WRITE);
+    }
+#else
+    (void)p;
+    (void)bytes;
+#endif
+}
+
 void *vor__alloc_large(size_t count, size_t size) {
     if (count == 0)
         count = 1;
@@ -74,8 +90,18 @@ void *vor__alloc_random(size_t count, size_t size) {
     return p;
 }
 
+void *vor__alloc_scattered(size_t count, size_t size) {
+    void *p = vor__alloc_large(count, size);
+    populate(p, count * size);
+    return p;
+}
+
 void *vor__calloc_large(size_t count, size_t size) {
-    return calloc(count ? count : 1, size); /* checks the product */
+    if (count == 0)
+        count = 1;
+    void *p = calloc(count, size); /* checks the product */
+    populate(p, count * size);
+    return p;
 }
 
 /* A scratch block starts with this header, which says how it was made;

@@ -790,8 +790,8 @@ static void *reuse(void *p, size_t count, size_t size) {
  * cell_start. */
 static int alloc_records(dual *D) {
     const size_t slots = D->d->cell_start[D->n];
-    D->d->cell_edges = xmalloc(slots, sizeof *D->d->cell_edges);
-    D->rwt = xmalloc(slots, sizeof *D->rwt);
+    D->d->cell_edges = vor__alloc_scattered(slots, sizeof *D->d->cell_edges);
+    D->rwt = vor__alloc_scattered(slots, sizeof *D->rwt);
     return D->d->cell_edges && D->rwt ? PASS_OK : PASS_NOMEM;
 }
 
@@ -838,7 +838,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     D.outl = D.small ? D.small : xmalloc(n, sizeof *D.outl);
     if (!d || !D.outl) goto done;
     d->n_sites = n;
-    d->cell_start = xmalloc(n + 1, sizeof *d->cell_start);
+    d->cell_start = vor__alloc_scattered(n + 1, sizeof *d->cell_start);
     if (!d->cell_start) goto done;
     /* where the construction met signs of cocircular sites, the polygons
      * are looked for at once (and the cells counted once, without the
