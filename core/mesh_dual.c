@@ -467,6 +467,11 @@ static int sweep_records(dual *D) {
                 if (t != GHOST_T) __builtin_prefetch(vid + t, 1);
                 if (RW(p) < ia) __builtin_prefetch(rx + rx[p]);
             }
+            /* a hull site's rays: its hull neighbours' points */
+            if (cs[ia + 1] > cs[ia] && RT(cs[ia + 1] - 1) == GHOST_T) {
+                __builtin_prefetch(sxy + 2 * (size_t)RW(cs[ia]));
+                __builtin_prefetch(sxy + 2 * (size_t)RW(cs[ia + 1] - 1));
+            }
         }
         const int hull = RT(hi - 1) == GHOST_T;
 
