@@ -44,36 +44,39 @@ void vor__mesh_clear(vor__mesh *m) {
     m->cap_tri = 0;
 }
 
-/* Advises the whole 2 MiB pages inside a block of bytes at p. */
-static void advise_huge(void *p, size_t bytes) {
-#if defined(MADV_HUGEPAGE)
-    const uintptr_t huge = (uintptr_t)1 << 21;
-    if (p && bytes >= 2 * huge) {
-        uintptr_t lo = ((uintptr_t)p + huge - 1) & ~(huge - 1);
-        uintptr_t hi = ((uintptr_t)p + bytes) & ~(huge - 1);
-        if (hi > lo)
-            (void)madvise((void *)lo, hi - lo, MADV_HUGEPAGE);
-    }
-#else
-    (void)p;
-    (void)bytes;
-#endif
+/* Gives advice (a madvise() advice, -1 for none where the system lacks
+ * it) for the whole units of unit bytes inside a block of bytes at p, if
+ * the block is at least min bytes long. Errors are ignored: a hint. */
+static void advise(void *p, size_t bytes, uintptr_t unit, size_t min,
+                   int advice) {
+    if (advice < 0 || !p || bytes < min)
+        return;
+    uintptr_t lo = ((uintptr_t)p + unit - 1) & ~(unit - 1);
+    uintptr_t hi = ((uintptr_t)p + bytes) & ~(unit - 1);
+    if (hi > lo)
+        (void)madvise((void *)lo, hi - lo, advice);
 }
 
-/* Maps the whole pages inside a block of bytes at p, writable, now. */
-static void populate(void *p, size_t bytes) {
-#if defined(MADV_POPULATE_WRITE)
-    const uintptr_t page = 4096, big = (uintptr_t)1 << 20;
-    if (p && bytes >= big) {
-        uintptr_t lo = ((uintptr_t)p + page - 1) & ~(page - 1);
-        uintptr_t hi = ((uintptr_t)p + bytes) & ~(page - 1);
-        if (hi > lo)
-            (void)madvise((void *)lo, hi - lo, MADV_POPULATE_WRITE);
-    }
+#if defined(MADV_HUGEPAGE)
+#define ADVICE_HUGE MADV_HUGEPAGE
 #else
-    (void)p;
-    (void)bytes;
+#define ADVICE_HUGE (-1)
 #endif
+#if defined(MADV_POPULATE_WRITE)
+#define ADVICE_POPULATE MADV_POPULATE_WRITE
+#else
+#define ADVICE_POPULATE (-1)
+#endif
+
+/* Advises the whole 2 MiB pages inside a block of 4 MiB or more. */
+static void advise_huge(void *p, size_t bytes) {
+    advise(p, bytes, (uintptr_t)1 << 21, (size_t)1 << 22, ADVICE_HUGE);
+}
+
+/* Maps the whole 4 KiB pages inside a block of 1 MiB or more, writable,
+ * now. */
+static void populate(void *p, size_t bytes) {
+    advise(p, bytes, 4096, (size_t)1 << 20, ADVICE_POPULATE);
 }
 
 void *vor__alloc_large(size_t count, size_t size) {
