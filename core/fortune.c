@@ -33,8 +33,9 @@
  *     cancelled far-future events.) The queue is a set of buckets by the
  *     estimated rank of an event's y among the sites' while sites remain,
  *     O(1) per operation whatever the sites' distribution in y, and a
- *     binary heap when buckets crowd, after the last site and for small
- *     inputs (see "Event queue"). Sites are not in the queue: the next
+ *     binary heap when buckets crowd, after the last site (unless many
+ *     events are left: buckets fitted to them) and for small inputs (see
+ *     "Event queue"). Sites are not in the queue: the next
  *     site in sorted order is compared with the earliest event.
  *   - Output: the Delaunay triangulation the sweep discovers, in the
  *     ghost-closed form of mesh.h, handed to vor__mesh_dual() (mesh_dual.c),
@@ -200,6 +201,7 @@ typedef struct sweep {
     event *ekey;       /* per record: its event (buckets only) */
     uint32_t *blink;   /* per record: previous and next in its bucket */
     size_t scanned, budget; /* buckets and entries read; the limit */
+    int refits;             /* times the map was fitted to the events */
     evrec *recs;
     uint32_t *hpos; /* per live record: heap position, or bucket, or LATE
                      * and its place in late[] */
@@ -1520,18 +1522,29 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * than a bin of the map, many events with the same top on a lattice);
  * the entries read are counted, and beyond BUCKET_READS per event on
  * average the events move into the heap, O(log n) per operation whatever
- * the input. They also move there after the last site, when buckets
- * would no longer split anything, and the heap serves small inputs.
+ * the input. They also move there after the last site, unless the
+ * events left are many (see below), and the heap serves small inputs.
+ *
+ * After the last site the sites' map sends every event to the last
+ * bucket; when many events remain (sites on a parabola or near a line
+ * leave half of them), the map is fitted to them instead (refit), and the
+ * buckets go on; otherwise the heap takes them.
  *
  * Whatever holds the others, an event whose interval lies wholly after
  * the last site's y cannot come before any site: while sites remain, it
- * waits unordered in late[] (O(1) in and out) and joins the heap after
- * the last site, in one O(n) heap construction. Sites in convex position
+ * waits unordered in late[] (O(1) in and out) and joins the others
+ * after the last site: in one O(n) heap construction, or in the buckets
+ * fitted to them all. Sites in convex position
  * below their circles' tops (on an arc of a circle, say) put nearly every
  * event there, each of which would otherwise cost a heap operation as it
  * comes and another as the next site cancels it.
  */
 #define BUCKET_READS 16
+/* Fitting the map to the events after the last site (refit) is worth
+ * its pass for this many events, this many times; else the heap takes
+ * them. */
+#define REFIT_MIN 4096
+#define MAX_REFITS 4
 #define LATE 0x80000000u /* hpos: the event waits in late[] */
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
@@ -1576,6 +1589,67 @@ static uint32_t bucket_top(sweep *w) {
     }
     w->top = m;
     return m;
+}
+
+/* The map of y to buckets need not be the sites': any monotone map keeps
+ * the buckets exact. After the last site, where the sites' map sends
+ * every event to the last bucket, the map is fitted again to the live
+ * events' lo, the waiting ones of late[] (all) included, and they spread
+ * over the buckets, with a fresh budget: sites on a parabola or near a
+ * line leave nearly half their events to then, which the heap took one
+ * O(log n) operation at a time. Should they crowd again, it is fitted
+ * again, up to MAX_REFITS times. (Fitting it to the events while sites
+ * remain, where they bunch up among the last sites on a circle, measured
+ * slower than the heap there.) VOR_ENOMEM if out of memory. */
+static vor_status refit(sweep *w, int all) {
+    size_t m = (size_t)w->n_heap + (all ? w->n_late : 0), k = 0;
+    keyed *a = malloc(m * sizeof *a);
+    if (!a) return VOR_ENOMEM;
+    if (m > w->n_buckets) {
+        uint32_t *h = vor__scratch_new(m, sizeof *h);
+        if (!h) {
+            free(a);
+            return VOR_ENOMEM;
+        }
+        memset(h, 0xff, m * sizeof *h);
+        for (uint32_t b = w->cur; b < w->n_buckets; b++) h[b] = w->bhead[b];
+        vor__scratch_free(w->bhead);
+        w->bhead = h;
+        w->n_buckets = (uint32_t)m;
+    }
+    uint64_t kmin = UINT64_MAX, kmax = 0;
+    for (uint32_t b = w->cur; k < w->n_heap; b++) {
+        for (uint32_t r = w->bhead[b]; r != NO_EVENT; r = w->blink[2 * r + 1])
+            a[k++].i = r;
+        w->bhead[b] = NO_EVENT;
+    }
+    if (all) {
+        for (uint32_t j = 0; j < w->n_late; j++) a[k++].i = w->late[j];
+        w->n_heap += w->n_late;
+        w->n_late = 0;
+        w->late_ok = 0;
+    }
+    for (size_t j = 0; j < m; j++) {
+        uint64_t key = dkey(w->ekey[a[j].i].lo + 0.0);
+        a[j].k = key;
+        kmin = key < kmin ? key : kmin;
+        kmax = key > kmax ? key : kmax;
+    }
+    ymap fitted;
+    vor_status st = ymap_build(&fitted, a, m, kmin, kmax, 1);
+    if (st == VOR_OK) {
+        free(w->ymap.block);
+        free(w->ymap.grid);
+        w->ymap = fitted;
+        w->cur = w->n_buckets;
+        w->top = NO_EVENT;
+        for (size_t j = 0; j < m; j++) bucket_link(w, a[j].i);
+        w->scanned = 0;
+        w->budget = 64 * (size_t)BUCKET_READS;
+        w->refits++;
+    }
+    free(a);
+    return st;
 }
 
 /* Moves every event from the buckets into the heap (Floyd's heap
@@ -1929,7 +2003,14 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     }
     for (;;) {
         vor_status st;
-        if (w->bhead && (i == n || w->scanned > w->budget)) to_heap(w);
+        if (w->bhead && ((i == n && w->late_ok) || w->scanned > w->budget)) {
+            size_t m = (size_t)w->n_heap + (i == n ? w->n_late : 0);
+            if (i == n && w->refits < MAX_REFITS && m >= REFIT_MIN) {
+                if ((st = refit(w, i == n)) != VOR_OK) return st;
+            } else {
+                to_heap(w);
+            }
+        }
         if (i == n && w->late_ok) late_flush(w);
         w->budget += BUCKET_READS;
         if (w->n_heap > 0 &&

@@ -1267,6 +1267,34 @@ static void test_curves(void **state) {
         }
 }
 
+/* Events after the last site: on a parabola about half of them, whose
+ * tops the sites' map sends to its last bucket; the buckets are fitted
+ * to the events instead (refit), and the queue must then order them in a
+ * comparison or two each, not a heap's dozen. Two rows of integer sites
+ * leave every event after the last site with the same top: the fitted
+ * buckets crowd again, are fitted again and give way to the heap. Both
+ * against the other algorithms (too many sites for brute force). */
+static void test_after_last_site(void **state) {
+    (void)state;
+    enum { N = 20000 };
+    static double xy[2 * N];
+    vt_rng r = {61};
+    print_message("after the last site: seed 61\n");
+    for (size_t i = 0; i < N; i++) {
+        double x = 2 * vt_unit(&r) - 1;
+        xy[2 * i] = x;
+        xy[2 * i + 1] = x * x;
+    }
+    vor_counts c;
+    counts_of("parabola, 20000 sites", xy, N, &c);
+    assert_true(c.event_compares < 2 * c.circle_events);
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = (double)(i / 2);
+        xy[2 * i + 1] = (double)(i % 2);
+    }
+    counts_of("two rows of 10000 integer sites", xy, N, &c);
+}
+
 /* Data far from the origin for its extent: the sweep moves it to an
  * origin within it (choose_frame), exactly, so that a grid at 2^50 is
  * swept as the same grid at 0 -- every count the same -- and keeps its
@@ -1734,6 +1762,7 @@ int main(void) {
         cmocka_unit_test(test_decimal_grid),
         cmocka_unit_test(test_offset_frames),
         cmocka_unit_test(test_curves),
+        cmocka_unit_test(test_after_last_site),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
