@@ -531,6 +531,26 @@ static inline double x_share(double ux, double uy, double eux, double euy) {
     return k < 1 ? eux * k : eux;
 }
 
+/* The refinement of a nearly cancelling orient2d for
+ * vor__fortune_circle_top (see there): d with *ed its error bound. Out of
+ * line and cloned for FMA: only nearly collinear triples come here, and
+ * without the instruction each fma() is a library call. */
+VOR__FMA_CLONES
+static double orient_refined(const double *a, const double *b,
+                             const double *c, int e, double bx, double by,
+                             double cx, double cy, double l, double r,
+                             double *ed) {
+    double sc = ldexp(1.0, -e);
+    double ebx = diff_err(b[0], a[0]) * sc, eby = diff_err(b[1], a[1]) * sc;
+    double ecx = diff_err(c[0], a[0]) * sc, ecy = diff_err(c[1], a[1]) * sc;
+    double d1 = fma(bx, cy, -r) + fma(-by, cx, r);
+    double t2 = (bx * ecy + ebx * cy) - (by * ecx + eby * cx);
+    double d = d1 + t2;
+    *ed = 0x1p-51 * (fabs(d1) + fabs(d)) + 0x1p-100 * (fabs(l) + fabs(r)) +
+          0x1p-1000;
+    return d;
+}
+
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi) {
     double bx = b[0] - a[0], by = b[1] - a[1];
@@ -564,15 +584,8 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
      * a few ulps apart after rounding, separate instead of all
      * overlapping. */
     if (ad < 0x1p-10 * (fabs(l) + fabs(r))) {
-        double sc = ldexp(1.0, -e);
-        double ebx = diff_err(b[0], a[0]) * sc, eby = diff_err(b[1], a[1]) * sc;
-        double ecx = diff_err(c[0], a[0]) * sc, ecy = diff_err(c[1], a[1]) * sc;
-        double d1 = fma(bx, cy, -r) + fma(-by, cx, r);
-        double t2 = (bx * ecy + ebx * cy) - (by * ecx + eby * cx);
-        d = d1 + t2;
+        d = orient_refined(a, b, c, e, bx, by, cx, cy, l, r, &ed);
         ad = fabs(d);
-        ed = 0x1p-51 * (fabs(d1) + ad) + 0x1p-100 * (fabs(l) + fabs(r)) +
-             0x1p-1000;
     }
     /* d is orient2d(a, b, c) with an error below ed (Shewchuk's bound is
      * (3 + 16 eps) eps (|l| + |r|)): its sign is proven when |d| > 2 ed */
@@ -845,7 +858,10 @@ static inline int exact_diff(double a, double b, double *d) {
  * 2^-104 |a b|, so when |p| >= 2^-960 a nonzero residual is not below
  * 2^-1074 and fma() cannot round it to zero. Smaller products are not
  * certified (a zero factor is). */
-static inline int exact_mul(double a, double b, double *p) {
+/* Always inlined: called out of line from the FMA clone of its caller,
+ * it would call the library's fma(). */
+static inline __attribute__((always_inline)) int exact_mul(double a, double b,
+                                                           double *p) {
     *p = a * b;
     if (*p == 0) return a == 0 || b == 0;
     return fabs(*p) >= 0x1p-960 && fma(a, b, -*p) == 0;
