@@ -1077,8 +1077,8 @@ int vor__fortune_level_cmp(const double *a1, const double *b1,
 /* Three corners of a box with sides parallel to the axes (among the
  * three points, two distinct x and two distinct y): 1 with the box in
  * v = {x0, x1, y0, y1}, x0 < x1, y0 < y1; else 0. */
-static int box_of(const double *a, const double *b, const double *c,
-                  double *v) {
+int vor__fortune_box_of(const double *a, const double *b, const double *c,
+                        double v[4]) {
     for (int k = 0; k < 2; k++) {
         double p = a[k], q;
         if (b[k] == p) {
@@ -1099,7 +1099,12 @@ int vor__fortune_box_cmp(const double *a1, const double *b1, const double *c1,
                          const double *a2, const double *b2, const double *c2,
                          int *res) {
     double p[4], q[4];
-    if (!box_of(a1, b1, c1, p) || !box_of(a2, b2, c2, q)) return 0;
+    return vor__fortune_box_of(a1, b1, c1, p) &&
+           vor__fortune_box_of(a2, b2, c2, q) &&
+           vor__fortune_boxes_cmp(p, q, res);
+}
+
+int vor__fortune_boxes_cmp(const double p[4], const double q[4], int *res) {
     /* the circle of a box: centre ((x0 + x1) / 2, (y0 + y1) / 2), radius
      * half the diagonal; its top rises with the width at a fixed height */
     dd w1 = two_sum(p[1], -p[0]), w2 = two_sum(q[1], -q[0]);

@@ -209,6 +209,13 @@ int vor__fortune_level_cmp(const double *a1, const double *b1,
 int vor__fortune_box_cmp(const double *a1, const double *b1, const double *c1,
                          const double *a2, const double *b2, const double *c2,
                          int *res);
+/* The same in two steps, for callers that keep each event's box: 1 if a,
+ * b, c are three corners of a box with sides parallel to the axes, with
+ * the box in v = {x0, x1, y0, y1} (x0 < x1, y0 < y1); else 0. Then the
+ * comparison of two such boxes p and q, as above. */
+int vor__fortune_box_of(const double *a, const double *b, const double *c,
+                        double v[4]);
+int vor__fortune_boxes_cmp(const double p[4], const double q[4], int *res);
 
 /* Scratch memory for vor__fortune_circle_cmp_exact (about 100 KiB), so that
  * the comparison cannot fail; NULL if out of memory. Free with
