@@ -1620,15 +1620,15 @@ static uint32_t bucket_top(sweep *w) {
 /* The map of y to buckets need not be the sites': any monotone map keeps
  * the buckets exact. After the last site, where the sites' map sends
  * every event to the last bucket, the map is fitted again to the live
- * events' lo, the waiting ones of late[] (all) included, and they spread
+ * events' lo, the waiting ones of late[] included, and they spread
  * over the buckets, with a fresh budget: sites on a parabola or near a
  * line leave nearly half their events to then, which the heap took one
  * O(log n) operation at a time. Should they crowd again, it is fitted
  * again, up to MAX_REFITS times. (Fitting it to the events while sites
  * remain, where they bunch up among the last sites on a circle, measured
  * slower than the heap there.) VOR_ENOMEM if out of memory. */
-static vor_status refit(sweep *w, int all) {
-    size_t m = (size_t)w->n_heap + (all ? w->n_late : 0), k = 0;
+static vor_status refit(sweep *w) {
+    size_t m = (size_t)w->n_heap + w->n_late, k = 0;
     keyed *a = malloc(m * sizeof *a);
     if (!a) return VOR_ENOMEM;
     if (m > w->n_buckets) {
@@ -1649,12 +1649,10 @@ static vor_status refit(sweep *w, int all) {
             a[k++].i = r;
         w->bhead[b] = NO_EVENT;
     }
-    if (all) {
-        for (uint32_t j = 0; j < w->n_late; j++) a[k++].i = w->late[j];
-        w->n_heap += w->n_late;
-        w->n_late = 0;
-        w->late_ok = 0;
-    }
+    for (uint32_t j = 0; j < w->n_late; j++) a[k++].i = w->late[j];
+    w->n_heap += w->n_late;
+    w->n_late = 0;
+    w->late_ok = 0;
     for (size_t j = 0; j < m; j++) {
         uint64_t key = dkey(w->ekey[a[j].i].lo + 0.0);
         a[j].k = key;
@@ -1817,9 +1815,9 @@ static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
  * triples keeps those of sites on a circle near 2^-45, and the thin
  * triangles of sites in columns or on a parabola come out between 2^-40
  * and 2^-28, which separates their tops almost always; bounds for each of
- * those cost a sixth of the run, and the few comparisons that do overlap compute
- * them when they need them (ev_tie). The margin 2m covers the rounding of
- * t and of t -+ 2m: |t - (d0 + d1)| <= |t| 2^-53. */
+ * those cost a sixth of the run, and the few comparisons that do overlap
+ * compute them when they need them (ev_tie). The margin 2m covers the
+ * rounding of t and of t -+ 2m: |t - (d0 + d1)| <= |t| 2^-53. */
 static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
     if (w->lattice || !(*hi - *lo > (fabs(*lo) + fabs(*hi)) * 0x1p-30))
         return;
@@ -2030,9 +2028,9 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     for (;;) {
         vor_status st;
         if (w->bhead && ((i == n && w->late_ok) || w->scanned > w->budget)) {
-            size_t m = (size_t)w->n_heap + (i == n ? w->n_late : 0);
+            size_t m = (size_t)w->n_heap + w->n_late;
             if (i == n && w->refits < MAX_REFITS && m >= REFIT_MIN) {
-                if ((st = refit(w, i == n)) != VOR_OK) return st;
+                if ((st = refit(w)) != VOR_OK) return st;
             } else {
                 to_heap(w);
             }
