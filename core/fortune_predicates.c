@@ -857,9 +857,8 @@ static inline int exact_diff(double a, double b, double *d) {
  * a b - p is a multiple of the product of the inputs' last bits, at least
  * 2^-104 |a b|, so when |p| >= 2^-960 a nonzero residual is not below
  * 2^-1074 and fma() cannot round it to zero. Smaller products are not
- * certified (a zero factor is). */
-/* Always inlined: called out of line from the FMA clone of its caller,
- * it would call the library's fma(). */
+ * certified (a zero factor is). Always inlined: called out of line from
+ * the FMA clone of its caller, it would call the library's fma(). */
 static inline __attribute__((always_inline)) int exact_mul(double a, double b,
                                                            double *p) {
     *p = a * b;
