@@ -189,19 +189,18 @@ typedef struct sweep {
     uint32_t finger[2];
     uint32_t finger_score;
 
-    /* The event queue (see "Event queue"): n_heap live events, in
-     * buckets while bhead is set, else in the heap. */
+    /* The event queue (see "Event queue"): n_heap live events in the
+     * heap, n_bucketed in the buckets (while bhead is set), n_late in
+     * late[]. */
     event *heap; /* cap_recs entries: one per live record */
     uint32_t n_heap;
     uint32_t *bhead;   /* n_buckets: first record of each bucket's list */
     uint32_t n_buckets;
-    uint32_t cur;      /* no live event in a bucket below cur */
-    uint32_t top;      /* the earliest event's record; NO_EVENT: unknown */
+    uint32_t cur;      /* the buckets below cur are poured into the heap */
+    uint32_t n_bucketed;
     ymap ymap;         /* bucket of lo: its rank estimate (see ymap) */
-    event *ekey;       /* per record: its event (buckets only) */
+    event *ekey;       /* per record: its event (buckets and late[]) */
     uint32_t *blink;   /* per record: previous and next in its bucket */
-    size_t scanned, budget; /* buckets and entries read; the limit */
-    int refits;             /* times the map was fitted to the events */
     evrec *recs;
     uint32_t *hpos; /* per live record: heap position, or bucket, or LATE
                      * and its place in late[] */
@@ -1531,61 +1530,69 @@ static void heap_remove(sweep *w, uint32_t pos) {
 
 /* ---- Event queue ---------------------------------------------------------
  *
- * While sites remain, the events are kept in buckets by the low end of
- * their interval: bucket k holds the events whose lo has the estimated
- * sweep rank k (ymap_rank, clamped to the sites' range), a monotone map;
- * one bucket per site, so that a bucket holds one or two events however
- * the sites are spread in y. The earliest event
- * lies in the first non-empty bucket, k, or in a later bucket no further
- * than that of its own hi (an earlier event's lo is below the earliest's
- * hi), so finding it reads those few buckets with the exact ev_before().
- * Inserting and removing are O(1): each bucket is a doubly linked list of
- * records. A binary heap had to walk a dozen levels for every event
- * removed, the largest single cost of the sweep (a sixth of Fortune's
- * time at 10^6 uniform sites).
+ * While sites remain, most events wait in buckets by the low end of their
+ * interval: bucket k holds the events whose lo has the estimated sweep
+ * rank k (ymap_rank, clamped to the sites' range), a monotone map; one
+ * bucket per site, so that a bucket holds one or two events however the
+ * sites are spread in y. Inserting and removing are O(1): each bucket is
+ * a doubly linked list of records. A binary heap of every event had to
+ * walk a dozen levels for every event removed, the largest single cost of
+ * the sweep (a sixth of Fortune's time at 10^6 uniform sites).
  *
- * Buckets fail when the events crowd into few of them (clusters narrower
- * than a bin of the map, many events with the same top on a lattice);
- * the entries read are counted, and beyond BUCKET_READS per event on
- * average the events move into the heap, O(log n) per operation whatever
- * the input. They also move there after the last site, unless the
- * events left are many (see below), and the heap serves small inputs.
+ * The events near the sweep line are in a small heap in front of the
+ * buckets: the buckets below cur have been poured into it, and an event
+ * whose bucket is below cur goes into it at once. It holds the earliest
+ * event as long as its top's hi maps below cur, because then every event
+ * in a bucket from cur on has its lo past that hi (the map is monotone);
+ * q_top pours the next buckets until that holds. So a bucket crowded with
+ * events of nearly or exactly equal tops (the cells of a row of a grid,
+ * jittered or not; a lattice's unit squares) costs a heap operation on a
+ * heap of that bucket's size per event, where a scan of the bucket for
+ * each event cost its square. Where the map fails outright (a cluster
+ * narrower than a bin, an event whose interval has no upper bound) the
+ * buckets pour into the heap, which then serves whatever the input.
  *
  * After the last site the sites' map sends every event to the last
  * bucket; when many events remain (sites on a parabola or near a line
  * leave half of them), the map is fitted to them instead (refit), and the
- * buckets go on; otherwise the heap takes them.
+ * buckets go on. Events that crowd the fitted buckets (equal tops) go
+ * through the heap as before, which alone serves small inputs.
  *
  * Whatever holds the others, an event whose interval lies wholly after
  * the last site's y cannot come before any site: while sites remain, it
  * waits unordered in late[] (O(1) in and out) and joins the others
- * after the last site: in one O(n) heap construction, or in the buckets
- * fitted to them all. Sites in convex position
- * below their circles' tops (on an arc of a circle, say) put nearly every
- * event there, each of which would otherwise cost a heap operation as it
- * comes and another as the next site cancels it.
+ * after the last site: in the buckets fitted to them all, or in the
+ * buckets (the last of them) or the heap as they are. Sites in convex
+ * position below their circles' tops (on an arc of a circle, say) put
+ * nearly every event there, each of which would otherwise cost a heap
+ * operation as it comes and another as the next site cancels it.
  */
-#define BUCKET_READS 16
 /* Fitting the map to the events after the last site (refit) is worth
- * its pass for this many events, this many times; else the heap takes
- * them. */
+ * its pass for this many events; else they stay where they are. */
 #define REFIT_MIN 4096
-#define MAX_REFITS 4
 #define LATE 0x80000000u /* hpos: the event waits in late[] */
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
     return ymap_rank(&w->ymap, lo);
 }
 
-/* Links record r, whose event is set, into its bucket. */
-static void bucket_link(sweep *w, uint32_t r) {
-    uint32_t k = ev_bucket(w, w->ekey[r].lo), h = w->bhead[k];
+/* 1 if record r's event is in the heap (else in a bucket, or late: hpos
+ * holds its bucket or LATE and its place in late[], never a heap
+ * position that holds r). */
+static inline int in_heap(const sweep *w, uint32_t r) {
+    uint32_t p = w->hpos[r];
+    return p < w->n_heap && w->heap[p].rec == r;
+}
+
+/* Links record r, whose event is set, into bucket k (k >= cur). */
+static void bucket_link(sweep *w, uint32_t r, uint32_t k) {
+    uint32_t h = w->bhead[k];
     w->hpos[r] = k;
     w->blink[2 * r] = NO_EVENT;
     w->blink[2 * r + 1] = h;
     if (h != NO_EVENT) w->blink[2 * h] = r;
     w->bhead[k] = r;
-    if (k < w->cur) w->cur = k;
+    w->n_bucketed++;
 }
 
 static void bucket_unlink(sweep *w, uint32_t r) {
@@ -1595,40 +1602,57 @@ static void bucket_unlink(sweep *w, uint32_t r) {
     else
         w->bhead[w->hpos[r]] = q;
     if (q != NO_EVENT) w->blink[2 * q] = p;
+    w->n_bucketed--;
 }
 
-/* Finds the earliest event in the buckets (there is one) for w->top. */
-static uint32_t bucket_top(sweep *w) {
-    uint32_t k = w->cur;
-    while (w->bhead[k] == NO_EVENT) k++;
-    w->cur = k;
-    uint32_t m = w->bhead[k];
-    for (uint32_t j = k, last = k; j <= last; j++) {
-        w->scanned++; /* a bucket read counts, empty or not: an event of
-                       * unbounded interval (hi = inf) reads them all */
-        for (uint32_t r = w->bhead[j]; r != NO_EVENT;
-             r = w->blink[2 * r + 1]) {
-            w->scanned++;
-            if (r != m && ev_before(w, &w->ekey[r], &w->ekey[m])) m = r;
-        }
-        last = ev_bucket(w, w->ekey[m].hi);
+/* Adds the events at heap[n0 ..] to the heap below them: one by one when
+ * they are few, else by building the heap anew (Floyd). */
+static void heap_grow(sweep *w, uint32_t n0) {
+    if (w->n_heap - n0 > n0) {
+        for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
+        return;
     }
-    w->top = m;
-    return m;
+    for (uint32_t j = n0; j < w->n_heap; j++) sift_up(w, j, w->heap[j]);
+}
+
+/* Pours bucket cur into the heap and moves cur past it. */
+static void pour(sweep *w) {
+    uint32_t r = w->bhead[w->cur], n0 = w->n_heap;
+    w->bhead[w->cur++] = NO_EVENT;
+    for (; r != NO_EVENT; r = w->blink[2 * r + 1]) {
+        heap_put(w, w->n_heap++, w->ekey[r]);
+        w->n_bucketed--;
+    }
+    heap_grow(w, n0);
+}
+
+/* Pours buckets into the heap until its top is the earliest event (see
+ * above). */
+static void front(sweep *w) {
+    while (w->n_bucketed) {
+        if (!w->n_heap) {
+            while (w->bhead[w->cur] == NO_EVENT) w->cur++;
+            pour(w);
+            continue;
+        }
+        uint32_t last = ev_bucket(w, w->heap[0].hi);
+        if (last < w->cur) return;
+        while (w->cur <= last && w->n_bucketed) pour(w);
+    }
 }
 
 /* The map of y to buckets need not be the sites': any monotone map keeps
  * the buckets exact. After the last site, where the sites' map sends
  * every event to the last bucket, the map is fitted again to the live
- * events' lo, the waiting ones of late[] included, and they spread
- * over the buckets, with a fresh budget: sites on a parabola or near a
- * line leave nearly half their events to then, which the heap took one
- * O(log n) operation at a time. Should they crowd again, it is fitted
- * again, up to MAX_REFITS times. (Fitting it to the events while sites
- * remain, where they bunch up among the last sites on a circle, measured
- * slower than the heap there.) VOR_ENOMEM if out of memory. */
+ * events' lo, the waiting ones of late[] and those in the heap included,
+ * and they spread over the buckets, with cur back at the first: sites on
+ * a parabola or near a line leave nearly half their events to then,
+ * which the heap took one O(log n) operation at a time. (Fitting it to
+ * the events while sites remain, where they bunch up among the last sites
+ * on a circle, measured slower than the heap there.) VOR_ENOMEM if out of
+ * memory. */
 static vor_status refit(sweep *w) {
-    size_t m = (size_t)w->n_heap + w->n_late, k = 0;
+    size_t m = (size_t)w->n_heap + w->n_bucketed + w->n_late, k = 0;
     keyed *a = malloc(m * sizeof *a);
     if (!a) return VOR_ENOMEM;
     if (m > w->n_buckets) {
@@ -1643,16 +1667,22 @@ static vor_status refit(sweep *w) {
         w->bhead = h;
         w->n_buckets = (uint32_t)m;
     }
-    uint64_t kmin = UINT64_MAX, kmax = 0;
-    for (uint32_t b = w->cur; k < w->n_heap; b++) {
-        for (uint32_t r = w->bhead[b]; r != NO_EVENT; r = w->blink[2 * r + 1])
+    for (uint32_t b = w->cur; w->n_bucketed; b++) {
+        for (uint32_t r = w->bhead[b]; r != NO_EVENT; r = w->blink[2 * r + 1]) {
             a[k++].i = r;
+            w->n_bucketed--;
+        }
         w->bhead[b] = NO_EVENT;
     }
+    for (uint32_t j = 0; j < w->n_heap; j++) {
+        w->ekey[w->heap[j].rec] = w->heap[j];
+        a[k++].i = w->heap[j].rec;
+    }
     for (uint32_t j = 0; j < w->n_late; j++) a[k++].i = w->late[j];
-    w->n_heap += w->n_late;
+    w->n_heap = 0;
     w->n_late = 0;
     w->late_ok = 0;
+    uint64_t kmin = UINT64_MAX, kmax = 0;
     for (size_t j = 0; j < m; j++) {
         uint64_t key = dkey(w->ekey[a[j].i].lo + 0.0);
         a[j].k = key;
@@ -1665,29 +1695,14 @@ static vor_status refit(sweep *w) {
         free(w->ymap.block);
         free(w->ymap.grid);
         w->ymap = fitted;
-        w->cur = w->n_buckets;
-        w->top = NO_EVENT;
-        for (size_t j = 0; j < m; j++) bucket_link(w, a[j].i);
-        w->scanned = 0;
-        w->budget = 64 * (size_t)BUCKET_READS;
-        w->refits++;
     }
+    /* with the old map, should the new one be out of memory: a monotone
+     * map either way */
+    w->cur = 0;
+    for (size_t j = 0; j < m; j++)
+        bucket_link(w, a[j].i, ev_bucket(w, w->ekey[a[j].i].lo));
     free(a);
     return st;
-}
-
-/* Moves every event from the buckets into the heap (Floyd's heap
- * construction), for good. */
-static void to_heap(sweep *w) {
-    uint32_t n = 0;
-    for (uint32_t k = w->cur; n < w->n_heap; k++) {
-        assert(k < w->n_buckets);
-        for (uint32_t r = w->bhead[k]; r != NO_EVENT; r = w->blink[2 * r + 1])
-            heap_put(w, n++, w->ekey[r]);
-    }
-    for (uint32_t i = n / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
-    vor__scratch_free(w->bhead);
-    w->bhead = NULL;
 }
 
 static inline int late_event(const sweep *w, const event *e) {
@@ -1706,59 +1721,72 @@ static void late_remove(sweep *w, uint32_t r) {
     w->hpos[m] = LATE | k;
 }
 
-/* After the last site: the waiting events join the others in the heap
- * (the buckets are gone by then). */
+/* Adds event e, whose record holds nothing in the queue, to the heap or
+ * its bucket. */
+static void q_put(sweep *w, event e) {
+    if (w->bhead) {
+        uint32_t k = ev_bucket(w, e.lo);
+        if (k >= w->cur) {
+            w->ekey[e.rec] = e;
+            bucket_link(w, e.rec, k);
+            return;
+        }
+    }
+    w->n_heap++;
+    sift_up(w, w->n_heap - 1, e);
+}
+
+/* After the last site: the waiting events join the others, in their
+ * buckets (the last, under the sites' map) or the heap. */
 static void late_flush(sweep *w) {
-    assert(!w->bhead);
     w->late_ok = 0;
-    if (!w->n_late) return;
-    for (uint32_t k = 0; k < w->n_late; k++) {
-        uint32_t r = w->late[k];
-        heap_put(w, w->n_heap++, w->ekey[r]);
+    uint32_t n0 = w->n_heap;
+    for (uint32_t j = 0; j < w->n_late; j++) {
+        uint32_t r = w->late[j], k = w->bhead ? ev_bucket(w, w->ekey[r].lo) : 0;
+        if (w->bhead && k >= w->cur)
+            bucket_link(w, r, k);
+        else
+            heap_put(w, w->n_heap++, w->ekey[r]);
     }
     w->n_late = 0;
-    for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
+    heap_grow(w, n0);
+}
+
+/* The number of events in the queue, late[] aside. */
+static inline uint32_t q_size(const sweep *w) {
+    return w->n_heap + w->n_bucketed;
 }
 
 /* The earliest event (the queue is not empty). */
 static inline const event *q_top(sweep *w) {
-    if (!w->bhead) return &w->heap[0];
-    uint32_t t = w->top;
-    return &w->ekey[t != NO_EVENT ? t : bucket_top(w)];
+    if (w->n_bucketed) front(w);
+    return &w->heap[0];
 }
 
 /* Adds event e, whose record holds nothing in the queue. */
 static void q_insert(sweep *w, event e) {
-    if (late_event(w, &e)) {
+    if (late_event(w, &e))
         late_put(w, e);
-    } else if (w->bhead) {
-        w->ekey[e.rec] = e;
-        bucket_link(w, e.rec);
-        w->n_heap++;
-        if (w->top != NO_EVENT && ev_before(w, &e, &w->ekey[w->top]))
-            w->top = e.rec;
-    } else {
-        w->n_heap++;
-        sift_up(w, w->n_heap - 1, e);
-    }
+    else
+        q_put(w, e);
 }
 
 /* Removes record r's event. */
 static void q_remove(sweep *w, uint32_t r) {
-    if (w->hpos[r] & LATE) {
+    if (w->hpos[r] & LATE)
         late_remove(w, r);
-    } else if (w->bhead) {
-        bucket_unlink(w, r);
-        w->n_heap--;
-        if (w->top == r) w->top = NO_EVENT;
-    } else {
+    else if (!w->bhead || in_heap(w, r))
         heap_remove(w, w->hpos[r]);
-    }
+    else
+        bucket_unlink(w, r);
 }
 
-/* Record e.rec's event becomes e. */
+/* Record e.rec's event becomes e: in the heap it moves up or down from
+ * its place (cheaper than a removal and an insertion), wherever its new
+ * interval would put it. */
 static void q_update(sweep *w, event e) {
-    if (w->bhead || (w->hpos[e.rec] & LATE) || late_event(w, &e)) {
+    if ((w->hpos[e.rec] & LATE) || late_event(w, &e) ||
+        (w->bhead && !in_heap(w, e.rec))) {
         q_remove(w, e.rec);
         q_insert(w, e);
         return;
@@ -2027,20 +2055,17 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     }
     for (;;) {
         vor_status st;
-        if (w->bhead && ((i == n && w->late_ok) || w->scanned > w->budget)) {
-            size_t m = (size_t)w->n_heap + w->n_late;
-            if (i == n && w->refits < MAX_REFITS && m >= REFIT_MIN) {
+        if (i == n && w->late_ok) {
+            if (w->bhead && q_size(w) + w->n_late >= REFIT_MIN) {
                 if ((st = refit(w)) != VOR_OK) return st;
             } else {
-                to_heap(w);
+                late_flush(w);
             }
         }
-        if (i == n && w->late_ok) late_flush(w);
-        w->budget += BUCKET_READS;
-        if (w->n_heap > 0 &&
+        if (q_size(w) > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
             uint32_t b = q_top(w)->arc;
-            if (!w->bhead && w->n_heap > 2) {
+            if (w->n_heap > 2) {
                 /* the next event is most often one of the top's
                  * children: its arc and neighbours will be read */
                 __builtin_prefetch(&w->arcs[w->heap[1].arc]);
@@ -2160,14 +2185,12 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.ws = vor__fortune_ws_new();
     if (!w.arcs || !w.red || !w.ehe || !w.ws)
         goto fail;
-    w.top = NO_EVENT;
     w.late_ok = 1;
     w.ylast = w.xy[2 * w.n - 1];
     if (w.n >= BUCKET_MIN_SITES && w.n <= UINT32_MAX &&
         w.xy[2 * w.n - 1] > w.xy[1]) {
         /* one bucket per site, if the sites' y range has a width */
         w.n_buckets = (uint32_t)w.n;
-        w.budget = 64 * (size_t)BUCKET_READS;
         w.bhead = vor__scratch_new(w.n_buckets, sizeof *w.bhead);
         if (!w.bhead) goto fail;
         memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */

@@ -1584,10 +1584,13 @@ static void test_sort_paths(void **state) {
  * boundaries, so that the earliest event is looked for in the next bucket
  * too (a thin checkerboard of 4R sites over a y range of R: one bucket per
  * quarter unit, and each square of four sites has its top at an integer);
- * buckets crowded past their budget, so that the events move into the heap
- * in mid-sweep (a flat band and one far site; events of unbounded interval
- * from nearly collinear sites); and small integer sets just above the size
- * from which buckets are used, where equal tops are the rule. */
+ * buckets poured into the heap wholesale (a flat band and one far site;
+ * events of unbounded interval from nearly collinear sites); buckets
+ * crowded by events of nearly equal tops (concentric rings), which the
+ * heap in front of the buckets orders in O(log) comparisons each, where
+ * a scan of the crowded bucket per event took about twenty; and small
+ * integer sets just above the size from which buckets are used, where
+ * equal tops are the rule. */
 static void test_event_queue(void **state) {
     (void)state;
     size_t n = 20000;
@@ -1626,6 +1629,19 @@ static void test_event_queue(void **state) {
     }
     check_points("lower half circle: events after the last site", xy, n, 1);
     check_points("lower half circle, small: the heap", xy, 40, 1);
+    /* 20 rings around the origin, sites at random angles: the events of a
+     * ring have their tops near its top, a bucket or two apart */
+    for (size_t i = 0; i < n; i++) {
+        double a = 6.283185307179586 * vt_unit(&g), k = (double)(1 + i % 20);
+        xy[2 * i] = k * cos(a);
+        xy[2 * i + 1] = k * sin(a);
+    }
+    vor_counts rc;
+    counts_of("20 rings, buckets crowded by nearly equal tops", xy, n, &rc);
+    print_message("rings: %llu comparisons for %llu circle events\n",
+                  (unsigned long long)rc.event_compares,
+                  (unsigned long long)rc.circle_events);
+    assert_true(rc.event_compares < 5 * rc.circle_events);
     free(xy);
 
     enum { R = 400 };
