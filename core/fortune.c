@@ -2224,7 +2224,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     /* vertex ids are sweep ranks: the site of rank v is order[v], at
      * lxy[2v] (moved and rescaled exactly, which leaves every predicate's
      * sign unchanged) */
-    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run), out);
+    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run, s->n), out);
 
 fail:
     sweep_free(&w);

@@ -148,11 +148,14 @@ void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
                           uint32_t *order, int degenerate, vor_diagram **out);
 
-/* The degenerate hint of vor__mesh_dual for a run whose construction is
- * done: its cocircular_signs, unless a test forces it (vor__run). */
-static inline int vor__cocircular_first(const vor__run *run) {
+/* The degenerate hint of vor__mesh_dual for a run of n sites whose
+ * construction is done: cocircular_signs for more than one site in 64,
+ * unless a test forces it (vor__run). Fewer signs leave few polygons (one
+ * in 10^6 points on a circle, which leave one sign), which the records
+ * pass notes and patches in at less cost than a search of every edge. */
+static inline int vor__cocircular_first(const vor__run *run, size_t n) {
     return run->cocircular_first ? run->cocircular_first > 0
-                                 : run->cocircular_signs > 0;
+                                 : run->cocircular_signs > n / 64;
 }
 
 /* vor__bowyer_watson and vor__flip: the insertion order

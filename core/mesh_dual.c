@@ -56,17 +56,19 @@
  * other slot holds garbage until its site's turn in the sweep.
  *
  * Cocircular sites. A vertex of four or more sites is one circle, which
- * the per-triangle records cannot express, so the first exactly
- * cocircular edge stops the records pass: the adj entries stashed so far
- * are restored (each pair of twins has one half-edge from the earlier to
- * the later visited vertex, whose adj was never touched), every diagonal
- * of a cocircular polygon is marked and the polygon's triangles joined
- * (see "cocircular sites" below), and the passes run again with the
- * diagonals left out and each polygon standing for one vertex. Grids,
- * integer pixels and points on a circle thus take this path at the cost
- * of one more pass over the edges; the generic builder of diagram.c
- * (vor__mesh_to_diagram), which it replaced for such input, stays the
- * definition the tests compare against.
+ * the per-triangle records cannot express. The records pass notes the
+ * diagonals of such polygons as it meets them and writes them as edges;
+ * when it is done, the records of the few polygons' sites are patched in
+ * place (see "few diagonals" below). Past PATCH_MAX diagonals the pass
+ * stops instead: the adj entries stashed so far are restored (each pair
+ * of twins has one half-edge from the earlier to the later visited
+ * vertex, whose adj was never touched), every diagonal of a cocircular
+ * polygon is marked and the polygon's triangles joined (see "cocircular
+ * sites" below), and the passes run again with the diagonals left out
+ * and each polygon standing for one vertex. Grids and integer pixels
+ * thus take this path at the cost of one more pass over the edges; the
+ * generic builder of diagram.c (vor__mesh_to_diagram), which it replaced
+ * for such input, stays the definition the tests compare against.
  *
  * Cost: O(n) passes for sites of bounded degree, O(k log k) for a site of
  * degree k. Measured on uniform sites: about 47% of Bowyer-Watson's
@@ -102,6 +104,8 @@
 /* Low word of a record slot whose left triangle is a ghost (the last slot
  * of a hull site's record); otherwise it is a triangle id. */
 #define GHOST_T UINT32_MAX
+/* A record slot freed when a few diagonals were patched out (patch()). */
+#define HOLE UINT64_MAX
 /* Lists of up to this many keys are ranked by counting or sorted by
  * insertion. */
 #define SMALL_SORT 24
@@ -164,6 +168,15 @@ typedef struct dual {
     uint32_t *min3;
     int merge; /* the second pass: diagonals marked, polygons joined */
     uint32_t tested; /* the first pass tested every edge at vertices below */
+    /* the diagonals the first pass met (pairs of twin half-edges), to be
+     * patched in (see "few diagonals"); the first met at vertex first_cc */
+    uint32_t *diag;
+    size_t n_diag, cap_diag;
+    uint32_t first_cc;
+    /* after a patch: the patched sites in increasing order, with the
+     * length of each one's record; holes: slots freed in them */
+    uint32_t *patched, *plen;
+    size_t n_patched, holes;
     size_t n_poly; /* finite polygons (vertices of the diagram) */
     /* the result being written, and how far */
     vor_diagram *d;
@@ -285,10 +298,36 @@ static int walk_fan(dual *D, uint32_t e0, size_t *deg) {
     return PASS_OK;
 }
 
+/* The most diagonals of cocircular polygons that the first records pass
+ * notes and goes on for (patched in afterwards, see "few diagonals"), for
+ * n sites; one more, and it stops there for the second pass. */
+#define PATCH_MAX(n) ((n) / 256 + 16)
+
+/* Notes diagonal e (out of vertex v, to a vertex visited later, so that
+ * its adj and its twin's are still the mesh's). PASS_OK, PASS_COCIRCULAR
+ * when the pass should stop for the second instead (too many), or
+ * PASS_NOMEM. */
+static int collect(dual *D, uint32_t e, uint32_t v) {
+    if (D->n_diag == PATCH_MAX(D->n)) return PASS_COCIRCULAR;
+    if (D->n_diag == D->cap_diag) {
+        size_t cap = D->cap_diag ? 2 * D->cap_diag : 8;
+        uint32_t *p = realloc(D->diag, 2 * cap * sizeof *p);
+        if (!p) return PASS_NOMEM;
+        D->diag = p;
+        D->cap_diag = cap;
+    }
+    if (!D->n_diag) D->first_cc = v;
+    D->diag[2 * D->n_diag] = e;
+    D->diag[2 * D->n_diag + 1] = (uint32_t)D->adj[e];
+    D->n_diag++;
+    return PASS_OK;
+}
+
 /* ---- fast path: the records ----------------------------------------------
- * See the file comment. PASS_COCIRCULAR at the first cocircular edge,
- * before anything of its vertex is written (D->tested says which). In the
- * second pass (D->merge) the diagonals, marked, are left out instead. */
+ * See the file comment. Cocircular edges are noted (collect);
+ * PASS_COCIRCULAR at the one past PATCH_MAX, before anything of its vertex
+ * is written (D->tested says up to where none was met). In the second
+ * pass (D->merge) the diagonals, marked, are left out instead. */
 static inline __attribute__((always_inline)) int
 build_records_as(dual *D, const int merge) {
     const size_t n = D->n;
@@ -398,9 +437,11 @@ build_records_as(dual *D, const int merge) {
             if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
             int ic = vor__incircle_static(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]), icc);
             if (ic > 0) return PASS_BROKEN;
-            if (ic == 0) { /* edges at earlier vertices were all tested */
-                D->tested = (uint32_t)v;
-                return PASS_COCIRCULAR;
+            if (ic == 0 && (ic = collect(D, he[k], (uint32_t)v)) != PASS_OK) {
+                /* edges at vertices below the first diagonal's were all
+                 * tested, and are none */
+                D->tested = D->n_diag ? D->first_cc : (uint32_t)v;
+                return ic;
             }
         }
         if (ghost < deg) start = ghost + 1 == deg ? 0 : ghost + 1;
@@ -456,7 +497,10 @@ static int sweep_records(dual *D) {
 #define RW(p) ((uint32_t)(rwt[p] >> 32))
 #define RT(p) ((uint32_t)rwt[p])
     for (size_t i = 0; i < n; i++) {
-        const uint32_t si = (uint32_t)i, lo = cs[i], hi = cs[i + 1];
+        const uint32_t si = (uint32_t)i, lo = cs[i];
+        uint32_t hi = cs[i + 1];
+        if (D->holes) /* a patched record ends at its first hole */
+            while (hi > lo && rwt[hi - 1] == HOLE) hi--;
         if (hi - lo < 2) return PASS_BROKEN;
         if (hi - lo > D->cap && reserve(D, hi - lo)) return PASS_NOMEM;
         key_slot *ko = D->ks, *ku = D->kt;
@@ -596,24 +640,24 @@ static void vertex_coordinates(const vor_sites *s, vor_diagram *d) {
 
 /* ---- cocircular sites ------------------------------------------------------
  * Four or more cocircular sites make one vertex, which the per-triangle
- * records cannot express. At the first cocircular edge build_records
- * stops; the mesh is put back as the construction left it (restore_adj),
- * and merge_prepare marks every diagonal of a cocircular polygon (an
- * interior edge whose two triangles share a circumcircle, exactly; the
- * edges build_records has tested already are known not to be), joins the
- * triangles of each polygon under one representative (union-find, the
- * smallest triangle id) and notes each polygon's three smallest sites.
- * Then the passes run again with
- * the diagonals left out of the degrees, the fans and the records, with
- * each slot's triangle replaced by its polygon's representative, and with
- * a polygon owned by its smallest site and keyed by the next two: a
+ * records cannot express. When build_records stops (one diagonal past
+ * PATCH_MAX, or a patch of too much work), the mesh is put back as the
+ * construction left it (restore_adj), and merge_prepare marks every
+ * diagonal of a cocircular polygon (an interior edge whose two triangles
+ * share a circumcircle, exactly; the edges build_records has tested up to
+ * its first diagonal are known not to be), joins the triangles of each
+ * polygon under one representative (union-find, the smallest triangle id)
+ * and notes each polygon's three smallest sites. Then the passes run again
+ * with the diagonals left out of the degrees, the fans and the records,
+ * with each slot's triangle replaced by its polygon's representative, and
+ * with a polygon owned by its smallest site and keyed by the next two: a
  * diagonal is no Voronoi edge (its length is zero), and the polygon is one
  * vertex, whose defining sites are its three smallest. When the
- * construction met signs of cocircular sites (vor__mesh_dual's degenerate
- * hint), they are likely, and merge_prepare runs first instead, over every
- * edge, and its count is the only one: the first pass would otherwise
- * stop wherever it met the first diagonal (halfway, for 10^5 sites on a
- * circle) and start again. */
+ * construction met many signs of cocircular sites (vor__mesh_dual's
+ * degenerate hint), polygons are likely many, and merge_prepare runs
+ * first instead, over every edge, and its count is the only one: the
+ * first pass would otherwise stop wherever it met the diagonal past
+ * PATCH_MAX (early, on a grid) and start again. */
 
 static int count(dual *D);
 
@@ -716,6 +760,189 @@ static void restore_adj(dual *D) {
         uint32_t a = tri[e], b = tri[vor__next((uint32_t)e)];
         if (a == VOR__GHOST || b == VOR__GHOST) continue;
         if (a < b) adj[adj[e]] = (int32_t)e;
+    }
+}
+
+/* ---- few diagonals ----------------------------------------------------------
+ * Points on a circle in floating point are nearly all cocircular within
+ * rounding and exactly so only here and there (one polygon in 10^6 such
+ * sites), and a uniform set may hold one square of pixels: a second pass
+ * over every edge and every record for a handful of polygons cost a third
+ * of the conversion. So the first records pass notes up to PATCH_MAX
+ * diagonals and goes on, writing each as an edge, and patch() then
+ * rewrites only the records of the polygons' sites, in place: the
+ * diagonals left out, each triangle replaced by its polygon's
+ * representative, interior cells rotated to start at their smallest
+ * neighbour again, the slots freed at the end of each record marked
+ * HOLE. Their twins are linked anew, by a search of the neighbour's
+ * record. The sweep stops at a record's first hole, and squeeze() closes
+ * them up in the cells' edges afterwards. The cc bits, representatives
+ * and smallest sites are those merge_prepare would find; the work is
+ * bounded by the patched records and their neighbours' (PATCH_WORK), and
+ * beyond that the second pass runs instead. */
+#define PATCH_WORK(n) ((n) / 4 + 4096)
+
+static int cmp_u32(const void *a, const void *b) {
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts a[0..k-1] and drops repeats; returns the new length. */
+static size_t sort_unique(uint32_t *a, size_t k) {
+    qsort(a, k, sizeof *a, cmp_u32);
+    size_t m = 0;
+    for (size_t j = 0; j < k; j++)
+        if (!m || a[j] != a[m - 1]) a[m++] = a[j];
+    return m;
+}
+
+/* The position of site w's slot for site si (a live one: before any
+ * hole), or UINT32_MAX. */
+static uint32_t slot_of(const dual *D, uint32_t w, uint32_t si) {
+    const uint32_t *cs = D->d->cell_start;
+    for (uint32_t q = cs[w]; q < cs[w + 1] && D->rwt[q] != HOLE; q++)
+        if ((uint32_t)(D->rwt[q] >> 32) == si) return q;
+    return UINT32_MAX;
+}
+
+/* Patches the n_diag diagonals in (see above). PASS_OK, PASS_NOMEM,
+ * PASS_BROKEN, or PASS_COCIRCULAR when the work would be too much (then
+ * nothing is changed but D->tested; the second pass follows). */
+static int patch(dual *D) {
+    const size_t T = D->T;
+    const uint32_t *tri = D->tri, *order = D->order, *cs = D->d->cell_start;
+    const size_t nd = D->n_diag;
+    uint32_t *pt = malloc(2 * nd * sizeof *pt), *pv = malloc(6 * nd * sizeof *pv);
+    int r = PASS_NOMEM;
+    if (!pt || !pv) goto out;
+    /* the polygons' triangles and their sites, and the work of relinking
+     * their records */
+    for (size_t j = 0; j < 2 * nd; j++) pt[j] = D->diag[j] / 3;
+    const size_t npt = sort_unique(pt, 2 * nd);
+    for (size_t j = 0; j < npt; j++)
+        for (int c = 0; c < 3; c++) pv[3 * j + c] = order[tri[3 * pt[j] + c]];
+    const size_t npv = sort_unique(pv, 3 * npt);
+    size_t work = 0;
+    for (size_t j = 0; j < npv; j++)
+        for (uint32_t p = cs[pv[j]]; p < cs[pv[j] + 1]; p++) {
+            uint32_t w = (uint32_t)(D->rwt[p] >> 32);
+            work += cs[w + 1] - cs[w];
+        }
+    if (work > PATCH_WORK(D->n)) {
+        D->tested = D->first_cc;
+        r = PASS_COCIRCULAR;
+        goto out;
+    }
+    /* mark and join, as merge_prepare does */
+    D->cc = calloc((3 * T + 7) / 8, 1);
+    D->root = xmalloc(T, sizeof *D->root);
+    D->min3 = xmalloc(3 * T, sizeof *D->min3);
+    D->patched = malloc(2 * npv * sizeof *D->patched);
+    if (!D->cc || !D->root || !D->min3 || !D->patched) goto out;
+    D->plen = D->patched + npv;
+    uint8_t *cc = D->cc;
+    uint32_t *root = D->root;
+    for (size_t j = 0; j < nd; j++) {
+        uint32_t e = D->diag[2 * j], f = D->diag[2 * j + 1];
+        uint32_t x = e / 3, y = f / 3;
+        if (!in_polygon(cc, x)) root[x] = x;
+        if (!in_polygon(cc, y)) root[y] = y;
+        cc[e >> 3] |= (uint8_t)(1u << (e & 7));
+        cc[f >> 3] |= (uint8_t)(1u << (f & 7));
+        x = uf_find(root, x);
+        y = uf_find(root, y);
+        if (x < y)
+            root[y] = x;
+        else if (y < x)
+            root[x] = y;
+    }
+    size_t roots = 0;
+    for (size_t j = 0; j < npt; j++) { /* increasing: a root before its own */
+        const uint32_t t = pt[j], *v = tri + 3 * (size_t)t;
+        const uint32_t rt = root[t] = uf_find(root, t);
+        uint32_t *m = D->min3 + 3 * (size_t)rt;
+        roots += rt == t;
+        if (rt == t) m[0] = m[1] = m[2] = UINT32_MAX;
+        vor__min3_add(m, order[v[0]]);
+        vor__min3_add(m, order[v[1]]);
+        vor__min3_add(m, order[v[2]]);
+    }
+    D->n_poly = T - D->h - npt + roots;
+    /* each polygon site's record without its diagonals, in cell order */
+    for (size_t j = 0; j < npv; j++) {
+        const uint32_t si = pv[j], lo = cs[si], hi = cs[si + 1];
+        if (reserve(D, hi - lo)) goto out;
+        key_slot *ks = D->ks;
+        size_t k = 0, start = 0;
+        for (uint32_t p = lo; p < hi; p++) {
+            uint64_t x = D->rwt[p];
+            uint32_t t = (uint32_t)x;
+            if (t != GHOST_T) {
+                const uint32_t *v = tri + 3 * (size_t)t;
+                uint32_t c = order[v[0]] == si ? 0 : order[v[1]] == si ? 1 : 2;
+                if (is_cc(cc, 3 * t + c)) continue;
+                if (in_polygon(cc, t)) x = (x >> 32) << 32 | root[t];
+            }
+            if (!k || (x >> 32) < (ks[start].key >> 32)) start = k;
+            ks[k++].key = x;
+        }
+        if (k < 2) {
+            r = PASS_BROKEN;
+            goto out;
+        }
+        if ((uint32_t)ks[k - 1].key == GHOST_T) start = 0; /* a hull site */
+        for (size_t c = 0; c < k; c++)
+            D->rwt[lo + c] = ks[(start + c) % k].key;
+        for (uint32_t p = lo + (uint32_t)k; p < hi; p++) D->rwt[p] = HOLE;
+        D->patched[j] = si;
+        D->plen[j] = (uint32_t)k;
+        D->holes += hi - lo - k;
+    }
+    D->n_patched = npv;
+    /* their twins: the larger site's slot holds the smaller's position */
+    uint32_t *rx = D->d->cell_edges;
+    for (size_t j = 0; j < npv; j++) {
+        const uint32_t si = pv[j];
+        for (uint32_t p = cs[si]; p < cs[si] + D->plen[j]; p++) {
+            const uint32_t w = (uint32_t)(D->rwt[p] >> 32), q = slot_of(D, w, si);
+            if (q == UINT32_MAX) {
+                r = PASS_BROKEN;
+                goto out;
+            }
+            if (w < si)
+                rx[p] = q;
+            else
+                rx[q] = p;
+        }
+    }
+    r = PASS_OK;
+out:
+    free(pt);
+    free(pv);
+    free(D->root);
+    D->root = NULL;
+    return r;
+}
+
+/* Closes up the holes that patch() left in the cells' edges and moves
+ * cell_start with them. */
+static void squeeze(dual *D) {
+    uint32_t *cs = D->d->cell_start, *rx = D->d->cell_edges;
+    const size_t n = D->n;
+    size_t src = 0, dst = 0;
+    for (size_t j = 0; j < D->n_patched; j++) {
+        const uint32_t si = D->patched[j], end = cs[si] + D->plen[j];
+        memmove(rx + dst, rx + src, (end - src) * sizeof *rx);
+        dst += end - src;
+        src = cs[si + 1];
+    }
+    memmove(rx + dst, rx + src, (cs[n] - src) * sizeof *rx);
+    uint32_t shift = 0;
+    for (size_t i = 0, j = 0; i <= n; i++) {
+        const uint32_t lo = cs[i];
+        cs[i] = lo - shift;
+        if (j < D->n_patched && D->patched[j] == i)
+            shift += cs[i + 1] - lo - D->plen[j++];
     }
 }
 
@@ -852,6 +1079,9 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     r = degenerate ? PASS_COCIRCULAR : count(&D);
     if (r == PASS_OK) r = alloc_records(&D);
     if (r == PASS_OK) r = build_records(&D);
+    if (r == PASS_OK && D.n_diag) r = patch(&D); /* a few diagonals */
+    free(D.diag);
+    D.diag = NULL;
     if (r == PASS_COCIRCULAR) { /* again, with the polygons merged */
         if (!degenerate) restore_adj(&D);
         r = merge_prepare(&D);
@@ -863,7 +1093,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
     /* a vertex per finite polygon (triangle, without cocircular sites), an
      * edge per pair of finite twins, a ray per hull edge */
     const size_t nvmax = D.min3 ? D.n_poly : T - D.h,
-                 nemax = d->cell_start[n] / 2, nrmax = D.h;
+                 nemax = (d->cell_start[n] - D.holes) / 2, nrmax = D.h;
     if (r == PASS_OK) {
         /* the mesh is no longer needed: its arrays become the vertex
          * sites and (in alloc_result) the edge sites */
@@ -894,6 +1124,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         if (alloc_result(&D, &m->tri, nemax, nrmax) != PASS_OK) goto done;
         r = sweep_records(&D);
         assert(r != PASS_OK || (D.nv == nvmax && D.ne == nemax && D.nr == nrmax));
+        if (r == PASS_OK && D.holes) squeeze(&D);
     }
     if (r != PASS_OK) {
         st = status_of(r);
@@ -921,6 +1152,8 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
 
 done:
     vor_diagram_free(D.d);
+    free(D.diag);
+    free(D.patched);
     if (!D.small) {
         free(D.outl);
         free(D.vid);
@@ -950,5 +1183,5 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
         free(order);
         return r;
     }
-    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run), out);
+    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run, s->n), out);
 }

@@ -206,8 +206,60 @@ static void test_cocircular(void **state) {
         vor_diagram_free(d);
         vor_sites_free(s);
     }
+    /* few polygons, patched into the first records pass: four squares
+     * that share sites, a 12-gon of exactly cocircular sites (a^2 + b^2
+     * = 25, in 64ths) whose circle holds no other site, each inside a
+     * uniform set; points on a circle in angle order (few exact
+     * polygons among nearly cocircular sites) */
+    {
+        const size_t n = 3000;
+        double *xy = vt_uniform(n + 12, 91);
+        assert_non_null(xy);
+        size_t m = 0;
+        for (size_t i = 0; i < n; i++) {
+            double dx = xy[2 * i] - 0.5, dy = xy[2 * i + 1] - 0.5;
+            if (dx * dx + dy * dy < 0.01) continue; /* (6.4/64)^2 */
+            xy[2 * m] = xy[2 * i];
+            xy[2 * m + 1] = xy[2 * i + 1];
+            m++;
+        }
+        static const int ab[12][2] = {{5, 0}, {4, 3}, {3, 4}, {0, 5},
+                                      {-3, 4}, {-4, 3}, {-5, 0}, {-4, -3},
+                                      {-3, -4}, {0, -5}, {3, -4}, {4, -3}};
+        for (size_t k = 0; k < 12; k++, m++) {
+            xy[2 * m] = 0.5 + ab[k][0] / 64.0;
+            xy[2 * m + 1] = 0.5 + ab[k][1] / 64.0;
+        }
+        vor_sites *s = sites_of(xy, m);
+        vor_diagram *d = expect_same(s, "uniform and a 12-gon", 5000, 1);
+        /* the 12-gon's centre is one vertex of twelve edges' ends */
+        size_t ends = 0;
+        for (size_t v = 0; v < d->n_vertices; v++)
+            if (d->vertex_xy[2 * v] == 0.5 && d->vertex_xy[2 * v + 1] == 0.5)
+                for (size_t e = 0; e < 2 * d->n_edges; e++)
+                    ends += d->edge_ends[e] == (int32_t)v;
+        assert_int_equal(ends, 12);
+        vor_diagram_free(d);
+        vor_sites_free(s);
+        free(xy);
+        xy = vt_uniform(n, 92);
+        assert_non_null(xy);
+        for (size_t i = 0; i < 9; i++) {
+            xy[2 * (n - 9 + i)] = 0.25 + (double)(i % 3) / 4096;
+            xy[2 * (n - 9 + i) + 1] = 0.75 + (double)(i / 3) / 4096;
+        }
+        s = sites_of(xy, n);
+        expect_same(s, "uniform and four squares sharing sites", 5000, 0);
+        vor_sites_free(s);
+        free(xy);
+    }
+    double *uc = vt_unit_circle(4000);
+    vor_sites *s = sites_of(uc, 4000);
+    free(uc);
+    expect_same(s, "4000 points on a circle", 5000, 0);
+    vor_sites_free(s);
     double *px = vt_pixels(20000, 5);
-    vor_sites *s = sites_of(px, 20000);
+    s = sites_of(px, 20000);
     free(px);
     expect_same(s, "pixels n=20000 seed=5", 0, 0);
     vor_sites_free(s);
@@ -252,7 +304,8 @@ static void test_high_degree(void **state) {
 
 /* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
  * the fast path (300 sites; 40 sites, whose scratch lives in
- * vor__mesh_dual's frame) and on the merged pass for cocircular sites:
+ * vor__mesh_dual's frame), on the merged pass for cocircular sites and on
+ * the patch of a few diagonals (a square among uniform sites):
  * VOR_ENOMEM, *out NULL, nothing leaks (LeakSanitizer at exit); then the
  * call succeeds. */
 static void test_allocation_failures(void **state) {
@@ -260,17 +313,23 @@ static void test_allocation_failures(void **state) {
     double *u = vt_uniform(300, 3);
     double *g = vt_grid(12, 9);
     double *v = vt_uniform(40, 4);
-    vor_sites *sets[3] = {sites_of(u, 300), sites_of(g, 108), sites_of(v, 40)};
-    static const char *const set_names[3] = {"uniform", "grid (merged pass)",
-                                             "small uniform"};
+    double *q = vt_uniform(304, 5);
+    static const double sq[] = {10, 10, 11, 10, 11, 11, 10, 11};
+    memcpy(q + 600, sq, sizeof sq);
+    vor_sites *sets[4] = {sites_of(u, 300), sites_of(g, 108), sites_of(v, 40),
+                          sites_of(q, 304)};
+    static const char *const set_names[4] = {
+        "uniform", "grid (merged pass)", "small uniform",
+        "uniform and a square (patched)"};
     free(u);
     free(g);
     free(v);
+    free(q);
     /* hint 0 as always; -1: the records pass meets the grid's
      * cocircular squares and starts again (vor__run's cocircular_first) */
     for (size_t a = 0; algos[a].mesh; a++) {
-        for (int k = 0; k < 4; k++) {
-            const int set = k < 3 ? k : 1, hint = k < 3 ? 0 : -1;
+        for (int k = 0; k < 5; k++) {
+            const int set = k == 3 ? 1 : k == 4 ? 3 : k, hint = k == 3 ? -1 : 0;
             long i;
             for (i = 0;; i++) {
                 vor_diagram *d = (vor_diagram *)1;
@@ -296,7 +355,7 @@ static void test_allocation_failures(void **state) {
             assert_true(i >= 12);
         }
     }
-    for (int k = 0; k < 3; k++) vor_sites_free(sets[k]);
+    for (int k = 0; k < 4; k++) vor_sites_free(sets[k]);
 }
 
 /* The hint's source: cocircular sites leave signs in every algorithm's
