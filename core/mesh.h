@@ -140,11 +140,13 @@ void vor__mesh_trace_begin(const vor__mesh *m, const uint32_t *order,
  * (mesh_dual.c). Bit-identical to vor__mesh_to_diagram of the finished
  * mesh, cocircular sites included. Consumes m
  * (cleared), lxy and order (freed), also on error; on error *out is NULL.
- * degenerate: the construction met signs of cocircular sites (vor__run's
- * cocircular_signs), so that they are likely: they are looked for
- * first, not met halfway through the records (a hint; the result is the
- * same either way). O(n) for sites of bounded degree; at its peak about
- * 157 bytes per site, the result included (mesh_dual.c). */
+ * degenerate > 0: the construction met many signs of cocircular sites
+ * (vor__run's cocircular_signs), so that they are likely: they are
+ * looked for first, not met in the records (a hint; the result is the
+ * same either way); < 0: the construction proved that there are none
+ * (vor__mesh_hint), and the records pass tests no edge for them. O(n) for
+ * sites of bounded degree; at its peak about 157 bytes per site, the
+ * result included (mesh_dual.c). */
 vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
                           uint32_t *order, int degenerate, vor_diagram **out);
 
@@ -156,6 +158,20 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
 static inline int vor__cocircular_first(const vor__run *run, size_t n) {
     return run->cocircular_first ? run->cocircular_first > 0
                                  : run->cocircular_signs > n / 64;
+}
+
+/* vor__mesh_dual's degenerate argument after Bowyer-Watson or flipping:
+ * vor__cocircular_first, or -1 when their construction met no sign at
+ * all. That is a proof: if a, b, c, d are cocircular with an edge a-c of
+ * triangles abc and acd in the final mesh, d inserted last of the four,
+ * then abc (whose sites came before d, and which lives to the end) was
+ * there when d came, across the boundary edge a-c of d's new star, and
+ * the construction tested d against it (the cavity's boundary, or the
+ * flip test of the edge opposite d), exactly: a zero, a sign. Not for
+ * Fortune's sweep, whose signs are its ties, not such tests. */
+static inline int vor__mesh_hint(const vor__run *run, size_t n) {
+    if (!run->cocircular_first && run->cocircular_signs == 0) return -1;
+    return vor__cocircular_first(run, n);
 }
 
 /* vor__bowyer_watson and vor__flip: the insertion order

@@ -167,6 +167,8 @@ typedef struct dual {
     uint32_t *root;
     uint32_t *min3;
     int merge; /* the second pass: diagonals marked, polygons joined */
+    int none;  /* the construction proved that no four sites are
+                * cocircular: the first pass tests no edge */
     uint32_t tested; /* the first pass tested every edge at vertices below */
     /* the diagonals the first pass met (pairs of twin half-edges), to be
      * patched in (see "few diagonals"); the first met at vertex first_cc */
@@ -329,7 +331,7 @@ static int collect(dual *D, uint32_t e, uint32_t v) {
  * is written (D->tested says up to where none was met). In the second
  * pass (D->merge) the diagonals, marked, are left out instead. */
 static inline __attribute__((always_inline)) int
-build_records_as(dual *D, const int merge) {
+build_records_as(dual *D, const int merge, const int test) {
     const size_t n = D->n;
     const uint32_t *tri = D->tri;
     int32_t *adj = D->adj;
@@ -343,7 +345,13 @@ build_records_as(dual *D, const int merge) {
     uint8_t fdeg[BLOCK], act[BLOCK];
     const uint8_t *cc = merge ? D->cc : NULL;
     const uint32_t *root = merge ? D->root : NULL;
-    const double icc = cc ? 0 : vor__incircle_static_bound(vor__span(lxy, n));
+#ifdef NDEBUG
+    const int checks = test;
+#else
+    const int checks = 1;
+#endif
+    const double icc =
+        cc || !checks ? 0 : vor__incircle_static_bound(vor__span(lxy, n));
 
     for (size_t v = 0; v < n; v++) {
         const size_t j = v % BLOCK;
@@ -372,7 +380,7 @@ build_records_as(dual *D, const int merge) {
                     fanw[b][fdeg[b]++] = w;
                     if (w != VOR__GHOST) {
                         __builtin_prefetch(order + w);
-                        __builtin_prefetch(lxy + 2 * (size_t)w);
+                        if (test) __builtin_prefetch(lxy + 2 * (size_t)w);
                     }
                     e = (uint32_t)adj[vor__prev(e)];
                     if (e == fan[b][0]) {
@@ -432,11 +440,15 @@ build_records_as(dual *D, const int merge) {
                 least = ws[k];
                 start = k;
             }
+#ifdef NDEBUG
+            if (!test) continue; /* a debug build checks the proof */
+#endif
             if (wl[k] < v) continue;
             size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
             if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
             int ic = vor__incircle_static(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]), icc);
             if (ic > 0) return PASS_BROKEN;
+            assert(test || ic != 0);
             if (ic == 0 && (ic = collect(D, he[k], (uint32_t)v)) != PASS_OK) {
                 /* edges at vertices below the first diagonal's were all
                  * tested, and are none */
@@ -476,7 +488,9 @@ build_records_as(dual *D, const int merge) {
 /* The pass compiled twice (always inlined, with merge a constant), so
  * that the usual one carries none of the merged pass's tests. */
 static int build_records(dual *D) {
-    return D->merge ? build_records_as(D, 1) : build_records_as(D, 0);
+    return D->merge  ? build_records_as(D, 1, 0)
+           : D->none ? build_records_as(D, 0, 0)
+                     : build_records_as(D, 0, 1);
 }
 
 /* ---- fast path: the sweep in site order ------------------------------------
@@ -1076,14 +1090,15 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
      * are looked for at once (and the cells counted once, without the
      * diagonals): a first pass would run up to the first cocircular edge
      * only to start again (halfway through, for 10^5 sites on a circle) */
-    r = degenerate ? PASS_COCIRCULAR : count(&D);
+    D.none = degenerate < 0;
+    r = degenerate > 0 ? PASS_COCIRCULAR : count(&D);
     if (r == PASS_OK) r = alloc_records(&D);
     if (r == PASS_OK) r = build_records(&D);
     if (r == PASS_OK && D.n_diag) r = patch(&D); /* a few diagonals */
     free(D.diag);
     D.diag = NULL;
     if (r == PASS_COCIRCULAR) { /* again, with the polygons merged */
-        if (!degenerate) restore_adj(&D);
+        if (degenerate <= 0) restore_adj(&D);
         r = merge_prepare(&D);
         if (r == PASS_OK && !D.rwt) r = alloc_records(&D);
         if (r == PASS_OK) r = build_records(&D);
@@ -1183,5 +1198,5 @@ vor_status vor__mesh_voronoi(const vor_sites *s, vor__mesh_build_fn build,
         free(order);
         return r;
     }
-    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run, s->n), out);
+    return vor__mesh_dual(s, &m, lxy, order, vor__mesh_hint(run, s->n), out);
 }
