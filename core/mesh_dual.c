@@ -683,6 +683,22 @@ static uint32_t uf_find(uint32_t *root, uint32_t t) {
     return t;
 }
 
+/* Marks twin half-edges e and f a diagonal and joins the polygons of
+ * their triangles under the smaller representative. */
+static void join(uint8_t *cc, uint32_t *root, uint32_t e, uint32_t f) {
+    uint32_t x = e / 3, y = f / 3;
+    if (!in_polygon(cc, x)) root[x] = x; /* joins its first polygon */
+    if (!in_polygon(cc, y)) root[y] = y;
+    cc[e >> 3] |= (uint8_t)(1u << (e & 7));
+    cc[f >> 3] |= (uint8_t)(1u << (f & 7));
+    x = uf_find(root, x);
+    y = uf_find(root, y);
+    if (x < y)
+        root[y] = x;
+    else if (y < x)
+        root[x] = y;
+}
+
 
 /* See above. Recounts the cells (count) without the diagonals. PASS_OK,
  * PASS_NOMEM, or PASS_BROKEN if an edge is not locally Delaunay. */
@@ -722,17 +738,7 @@ static int merge_prepare(dual *D) {
         int ic = vor__incircle_static(XY(a), XY(b), XY(c), XY(d), icc);
         if (ic > 0) return PASS_BROKEN;
         if (ic < 0) continue;
-        uint32_t x = e / 3, y = f / 3;
-        if (!in_polygon(cc, x)) root[x] = x; /* joins its first polygon */
-        if (!in_polygon(cc, y)) root[y] = y;
-        cc[e >> 3] |= (uint8_t)(1u << (e & 7));
-        cc[f >> 3] |= (uint8_t)(1u << (f & 7));
-        x = uf_find(root, x);
-        y = uf_find(root, y);
-        if (x < y)
-            root[y] = x;
-        else if (y < x)
-            root[x] = y;
+        join(cc, root, e, f);
     }
     /* flatten, count the finite polygons, note the smallest sites of
      * those of several triangles (a lone triangle's are its own, which
@@ -857,18 +863,7 @@ static int patch(dual *D) {
     uint8_t *cc = D->cc;
     uint32_t *root = D->root;
     for (size_t j = 0; j < nd; j++) {
-        uint32_t e = D->diag[2 * j], f = D->diag[2 * j + 1];
-        uint32_t x = e / 3, y = f / 3;
-        if (!in_polygon(cc, x)) root[x] = x;
-        if (!in_polygon(cc, y)) root[y] = y;
-        cc[e >> 3] |= (uint8_t)(1u << (e & 7));
-        cc[f >> 3] |= (uint8_t)(1u << (f & 7));
-        x = uf_find(root, x);
-        y = uf_find(root, y);
-        if (x < y)
-            root[y] = x;
-        else if (y < x)
-            root[x] = y;
+        join(cc, root, D->diag[2 * j], D->diag[2 * j + 1]);
     }
     size_t roots = 0;
     for (size_t j = 0; j < npt; j++) { /* increasing: a root before its own */
