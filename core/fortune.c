@@ -1544,11 +1544,12 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * whose bucket is below cur goes into it at once. It holds the earliest
  * event as long as its top's hi maps below cur, because then every event
  * in a bucket from cur on has its lo past that hi (the map is monotone);
- * q_top pours the next buckets until that holds. So a bucket crowded with
- * events of nearly or exactly equal tops (the cells of a row of a grid,
- * jittered or not; a lattice's unit squares) costs a heap operation on a
- * heap of that bucket's size per event, where a scan of the bucket for
- * each event cost its square. Where the map fails outright (a cluster
+ * q_top pours the next buckets until that holds, and while sites remain,
+ * event_first pours only those up to the next site's. So a bucket
+ * crowded with events of nearly or exactly equal tops (the cells of a row
+ * of a grid, jittered or not; a lattice's unit squares) costs a heap
+ * operation on a heap of that bucket's size per event, where a scan of
+ * the bucket for each event cost its square. Where the map fails outright (a cluster
  * narrower than a bin, an event whose interval has no upper bound) the
  * buckets pour into the heap, which then serves whatever the input.
  *
@@ -1989,12 +1990,23 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 
 /* ---- Driver -------------------------------------------------------------- */
 
-/* 1 if the earliest event in the queue comes before site p. Where the
- * float interval cannot tell, the event's double-double bounds (computed
- * once per event: the same event often meets every site of a row), then
- * integers for small lattices, then the exact comparison. */
+/* 1 if the earliest event in the queue comes before site p; then it is
+ * the heap's top. Only the buckets up to p's are poured for it: an event
+ * in a later one starts after p (the map is monotone), and the heap's
+ * top, if before p, before it too. Pouring as far as the top's hi, as
+ * q_top does, would put every event created until the sweep gets there
+ * into the heap whenever the nearest event lies far ahead (across the
+ * hole of a ring, say). Where the float interval cannot tell, the
+ * event's double-double bounds (computed once per event: the same event
+ * often meets every site of a row), then integers for small lattices,
+ * then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
-    const event *e = q_top(w);
+    if (w->n_bucketed) {
+        const uint32_t kp = ev_bucket(w, p[1]);
+        while (w->cur <= kp && w->n_bucketed) pour(w);
+    }
+    if (!w->n_heap) return 0;
+    const event *e = &w->heap[0];
     w->cnt.event_compares++;
     if (e->lo > p[1]) return 0;
     if (e->hi < p[1]) return 1;
@@ -2064,7 +2076,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
         }
         if (q_size(w) > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
-            uint32_t b = q_top(w)->arc;
+            uint32_t b = (i == n ? q_top(w) : &w->heap[0])->arc;
             if (w->n_heap > 2) {
                 /* the next event is most often one of the top's
                  * children: its arc and neighbours will be read */

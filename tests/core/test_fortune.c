@@ -1641,7 +1641,7 @@ static void test_event_queue(void **state) {
     print_message("rings: %llu comparisons for %llu circle events\n",
                   (unsigned long long)rc.event_compares,
                   (unsigned long long)rc.circle_events);
-    assert_true(rc.event_compares < 5 * rc.circle_events);
+    assert_true(rc.event_compares < 8 * rc.circle_events);
     free(xy);
 
     enum { R = 400 };
