@@ -1991,19 +1991,22 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 /* ---- Driver -------------------------------------------------------------- */
 
 /* 1 if the earliest event in the queue comes before site p; then it is
- * the heap's top. Only the buckets up to p's are poured for it: an event
- * in a later one starts after p (the map is monotone), and the heap's
- * top, if before p, before it too. Pouring as far as the top's hi, as
- * q_top does, would put every event created until the sweep gets there
- * into the heap whenever the nearest event lies far ahead (across the
- * hole of a ring, say). Where the float interval cannot tell, the
+ * the heap's top. Buckets are poured as q_top pours them, but none past
+ * p's: an event in a later one starts after p (the map is monotone), and
+ * the heap's top, if before p, before it too. Pouring as far as the top's
+ * hi would put every event created until the sweep gets there into the
+ * heap whenever the nearest event lies far ahead (across the hole of a
+ * ring, say); pouring every bucket up to p's, those of events that come
+ * after the top. Where the float interval cannot tell, the
  * event's double-double bounds (computed once per event: the same event
  * often meets every site of a row), then integers for small lattices,
  * then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
     if (w->n_bucketed) {
         const uint32_t kp = ev_bucket(w, p[1]);
-        while (w->cur <= kp && w->n_bucketed) pour(w);
+        while (w->n_bucketed && w->cur <= kp &&
+               (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur))
+            pour(w);
     }
     if (!w->n_heap) return 0;
     const event *e = &w->heap[0];
