@@ -27,7 +27,10 @@
  *            the twin slot (rx, which becomes cell_edges). Every interior
  *            edge is tested here, once, with the exact vor_incircle against
  *            the apexes of its two triangles (fan neighbours, already in
- *            the cache); at the first cocircular one the pass stops.
+ *            the cache); a cocircular one is noted (a diagonal, see
+ *            below), and past PATCH_MAX of them the pass stops. Where
+ *            the construction proved that there are none
+ *            (vor__mesh_hint), nothing is tested.
  *   sweep    sites in index order, records read in order. Site i owns the
  *            vertices whose other two sites exceed i (ids in (s1, s2)
  *            order: the canonical vertex order is by smallest site) and
