@@ -1606,17 +1606,9 @@ static void bucket_unlink(sweep *w, uint32_t r) {
     w->n_bucketed--;
 }
 
-/* Adds the events at heap[n0 ..] to the heap below them: one by one when
- * they are few, else by building the heap anew (Floyd). */
-static void heap_grow(sweep *w, uint32_t n0) {
-    if (w->n_heap - n0 > n0) {
-        for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
-        return;
-    }
-    for (uint32_t j = n0; j < w->n_heap; j++) sift_up(w, j, w->heap[j]);
-}
-
-/* Pours bucket cur into the heap and moves cur past it. */
+/* Pours bucket cur into the heap and moves cur past it: its events are
+ * put in one by one when they are fewer than the heap's, else the heap
+ * is built anew (Floyd). */
 static void pour(sweep *w) {
     uint32_t r = w->bhead[w->cur], n0 = w->n_heap;
     w->bhead[w->cur++] = NO_EVENT;
@@ -1624,22 +1616,20 @@ static void pour(sweep *w) {
         heap_put(w, w->n_heap++, w->ekey[r]);
         w->n_bucketed--;
     }
-    heap_grow(w, n0);
+    if (w->n_heap - n0 > n0) {
+        for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
+        return;
+    }
+    for (uint32_t j = n0; j < w->n_heap; j++) sift_up(w, j, w->heap[j]);
 }
 
 /* Pours buckets into the heap until its top is the earliest event (see
- * above). */
-static void front(sweep *w) {
-    while (w->n_bucketed) {
-        if (!w->n_heap) {
-            while (w->bhead[w->cur] == NO_EVENT) w->cur++;
-            pour(w);
-            continue;
-        }
-        uint32_t last = ev_bucket(w, w->heap[0].hi);
-        if (last < w->cur) return;
-        while (w->cur <= last && w->n_bucketed) pour(w);
-    }
+ * above), or until bucket last is poured: past it, an event starts after
+ * anything that maps to last. */
+static void front(sweep *w, uint32_t last) {
+    while (w->n_bucketed && w->cur <= last &&
+           (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur))
+        pour(w);
 }
 
 /* The map of y to buckets need not be the sites': any monotone map keeps
@@ -1741,16 +1731,8 @@ static void q_put(sweep *w, event e) {
  * buckets (the last, under the sites' map) or the heap. */
 static void late_flush(sweep *w) {
     w->late_ok = 0;
-    uint32_t n0 = w->n_heap;
-    for (uint32_t j = 0; j < w->n_late; j++) {
-        uint32_t r = w->late[j], k = w->bhead ? ev_bucket(w, w->ekey[r].lo) : 0;
-        if (w->bhead && k >= w->cur)
-            bucket_link(w, r, k);
-        else
-            heap_put(w, w->n_heap++, w->ekey[r]);
-    }
+    for (uint32_t j = 0; j < w->n_late; j++) q_put(w, w->ekey[w->late[j]]);
     w->n_late = 0;
-    heap_grow(w, n0);
 }
 
 /* The number of events in the queue, late[] aside. */
@@ -1760,7 +1742,7 @@ static inline uint32_t q_size(const sweep *w) {
 
 /* The earliest event (the queue is not empty). */
 static inline const event *q_top(sweep *w) {
-    if (w->n_bucketed) front(w);
+    front(w, UINT32_MAX);
     return &w->heap[0];
 }
 
@@ -2002,12 +1984,7 @@ static vor_status circle_event(sweep *w, uint32_t b) {
  * often meets every site of a row), then integers for small lattices,
  * then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
-    if (w->n_bucketed) {
-        const uint32_t kp = ev_bucket(w, p[1]);
-        while (w->n_bucketed && w->cur <= kp &&
-               (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur))
-            pour(w);
-    }
+    if (w->n_bucketed) front(w, ev_bucket(w, p[1]));
     if (!w->n_heap) return 0;
     const event *e = &w->heap[0];
     w->cnt.event_compares++;
