@@ -703,11 +703,26 @@ static void join(uint8_t *cc, uint32_t *root, uint32_t e, uint32_t f) {
 }
 
 
+/* Triangle t, of a polygon of several, is pointed at its representative
+ * (the smallest triangle of the polygon, met first in increasing order),
+ * and its sites join the representative's three smallest. 1 if t is the
+ * representative. */
+static int add_to_polygon(dual *D, uint32_t t) {
+    const uint32_t *v = D->tri + 3 * (size_t)t;
+    const uint32_t r = D->root[t] = uf_find(D->root, t);
+    uint32_t *m = D->min3 + 3 * (size_t)r;
+    if (r == t) m[0] = m[1] = m[2] = UINT32_MAX;
+    vor__min3_add(m, D->order[v[0]]);
+    vor__min3_add(m, D->order[v[1]]);
+    vor__min3_add(m, D->order[v[2]]);
+    return r == t;
+}
+
 /* See above. Recounts the cells (count) without the diagonals. PASS_OK,
  * PASS_NOMEM, or PASS_BROKEN if an edge is not locally Delaunay. */
 static int merge_prepare(dual *D) {
     const size_t T = D->T, n = D->n;
-    const uint32_t *tri = D->tri, *order = D->order;
+    const uint32_t *tri = D->tri;
     const int32_t *adj = D->adj;
     const double *lxy = D->lxy;
     D->cc = calloc((3 * T + 7) / 8, 1);
@@ -751,7 +766,6 @@ static int merge_prepare(dual *D) {
      * never touched */
     D->min3 = xmalloc(3 * T, sizeof *D->min3);
     if (!D->min3) return PASS_NOMEM;
-    uint32_t *min3 = D->min3;
     size_t np = 0;
     for (size_t t = 0; t < T; t++) {
         const uint32_t *v = tri + 3 * t;
@@ -760,13 +774,7 @@ static int merge_prepare(dual *D) {
             np++;
             continue;
         }
-        const uint32_t r = root[t] = uf_find(root, (uint32_t)t);
-        np += r == t;
-        uint32_t *m = min3 + 3 * (size_t)r;
-        if (r == t) m[0] = m[1] = m[2] = UINT32_MAX; /* r is the smallest */
-        vor__min3_add(m, order[v[0]]);
-        vor__min3_add(m, order[v[1]]);
-        vor__min3_add(m, order[v[2]]);
+        np += add_to_polygon(D, (uint32_t)t);
     }
     D->n_poly = np;
     D->merge = 1;
@@ -869,16 +877,8 @@ static int patch(dual *D) {
         join(cc, root, D->diag[2 * j], D->diag[2 * j + 1]);
     }
     size_t roots = 0;
-    for (size_t j = 0; j < npt; j++) { /* increasing: a root before its own */
-        const uint32_t t = pt[j], *v = tri + 3 * (size_t)t;
-        const uint32_t rt = root[t] = uf_find(root, t);
-        uint32_t *m = D->min3 + 3 * (size_t)rt;
-        roots += rt == t;
-        if (rt == t) m[0] = m[1] = m[2] = UINT32_MAX;
-        vor__min3_add(m, order[v[0]]);
-        vor__min3_add(m, order[v[1]]);
-        vor__min3_add(m, order[v[2]]);
-    }
+    for (size_t j = 0; j < npt; j++) /* increasing: a root before its own */
+        roots += add_to_polygon(D, pt[j]);
     D->n_poly = T - D->h - npt + roots;
     /* each polygon site's record without its diagonals, in cell order */
     for (size_t j = 0; j < npv; j++) {
