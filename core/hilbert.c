@@ -36,6 +36,10 @@
  * factor of 2^11 in scale, so a cluster is ordered along a curve of its
  * own at whatever scale it lives, and the work stays linear for sets that
  * span a few dozen binary orders of magnitude per level of nesting.
+ * Sites on rows of equal y (or columns of equal x), far apart against
+ * the spacing of the sites in a row, are keyed with that axis scaled down
+ * until the two spacings match (see "Rows and columns"), so that the
+ * curve fills neighbouring rows together.
  *
  * The Hilbert key comes from a 4-state automaton (the state is the
  * rotation/reflection of the current sub-square). Its 64-entry table for
@@ -51,7 +55,8 @@
  *
  * Cost: O(n) for uniform points: one pass for the bounding box, one for
  * keys and rounds, four for the sort (a histogram and three scatters) and
- * one to find crowded cells; 10^6 sites take about 45 ms (a third of it
+ * one to find crowded cells, and a sample of at most 65536 sites read
+ * twice for rows and columns; 10^6 sites take about 45 ms (a third of it
  * the keys, a third the sort, the rest the kernel's zeroing of fresh
  * pages). A refinement costs a pass over its run, so a site pays once per
  * level of nesting it sits in (two or three for the skewed sets above; at
@@ -229,6 +234,91 @@ static unsigned key_state(unsigned state, uint32_t key) {
 /* Runs of at most this many sites that share a grid cell stay in index
  * order; longer ones are refined. */
 #define LEAF 16
+
+/* Rows and columns. Sites on a few levels of y (scan lines, tracks, a
+ * table of readings: 300 rows of 333 sites in a 1 x 300 box, say) have a
+ * triangulation of long thin triangles between neighbouring rows, and a
+ * square cell of the grid holds a piece of one row. The curve then goes
+ * through the box a row at a time, and every round fills each row while
+ * the row above still holds only the earlier rounds' sites; a site of
+ * that row then falls into a fan of the row below and opens a cavity of
+ * half a dozen triangles (8.5 triangles made a site against 6.2 for
+ * uniform sites). With y scaled so that the rows lie as far apart as the
+ * sites in a row, the cells hold pieces of several rows and the curve
+ * fills neighbouring rows together. Scaling each axis to its span would
+ * do it for these sets but costs those that are long because of their
+ * shape (a 1 x 300 box of uniform sites, sites near a line), whose
+ * triangles are not long: so the scale comes from the levels themselves.
+ * Among a sample of m sites, on a grid of m cells over the axis's span,
+ * the levels are the runs of occupied cells; an axis is on levels when
+ * they are fewer than m / 4, evenly spread and evenly filled (no gap
+ * wider than four times the mean, no level with more than four times or
+ * less than a quarter of the mean share of the sample): heavy tails and
+ * far outliers also leave few occupied cells, but unevenly (a city and
+ * one stray point at (0, 0) fill two levels of each axis, one with a
+ * single site). L rows over a height 2 hy and a width 2 hx hold n / L
+ * sites each, 2 hx L / n apart, with the rows 2 hy / L apart: y is
+ * scaled by hx L^2 / (n hy) when that is below 1 (rows farther apart than
+ * their sites), and x likewise for columns. Sites spread evenly in y
+ * occupy about 0.63 m cells and keep the scale 1. */
+#define LEVEL_SAMPLE 65536
+
+/* The levels of axis a (0: x, 1: y) among m of the n sites, spread
+ * evenly over the input (input order may follow rows); 0 if the axis is
+ * not on levels (see above). count has room for m counters. */
+static size_t axis_levels(const double *xy, size_t n, size_t m, int a,
+                          double lo, double half, uint32_t *count) {
+    memset(count, 0, m * sizeof *count);
+    double cells = (double)m;
+    for (size_t i = 0; i < m; i++) {
+        size_t at = (size_t)((uint64_t)i * n / m);
+        double c = (xy[2 * at + a] * 0.5 - lo * 0.5) / half * cells;
+        count[c >= cells ? m - 1 : c > 0 ? (size_t)c : 0]++;
+    }
+    /* runs of occupied cells: how many, the widest gap between the starts
+     * of two, the most and the fewest sites in one */
+    size_t levels = 0, start = 0, widest = 0, most = 0, fewest = m, sites = 0;
+    for (size_t j = 0; j <= m; j++) {
+        if (j < m && count[j]) {
+            if (sites == 0) {
+                if (levels > 0 && j - start > widest)
+                    widest = j - start;
+                start = j;
+                levels++;
+            }
+            sites += count[j];
+            continue;
+        }
+        if (sites) {
+            most = sites > most ? sites : most;
+            fewest = sites < fewest ? sites : fewest;
+        }
+        sites = 0;
+    }
+    if (levels < 2 || levels > m / 4 || widest * (levels - 1) > 4 * (m - 1) ||
+        most * levels > 4 * m || 4 * fewest * levels < m)
+        return 0;
+    return levels;
+}
+
+/* Scale of each axis for the keys (see above): scale[a] <= 1, 1 unless
+ * the sites lie on rows (a = 1) or columns (a = 0). count has room for
+ * min(n, LEVEL_SAMPLE) counters. */
+static void axis_scales(const double *xy, size_t n, const double box[4],
+                        uint32_t *count, double scale[2]) {
+    scale[0] = scale[1] = 1;
+    double h[2] = {box[2] * 0.5 - box[0] * 0.5, box[3] * 0.5 - box[1] * 0.5};
+    if (n < 4 * LEAF || !(h[0] > 0) || !(h[1] > 0))
+        return;
+    size_t m = n < LEVEL_SAMPLE ? n : LEVEL_SAMPLE;
+    for (int a = 0; a < 2; a++) {
+        double levels = (double)axis_levels(xy, n, m, a, box[a], h[a], count);
+        double s = h[1 - a] / h[a] * levels * levels / (double)n;
+        if (levels > 0 && s < 1)
+            scale[a] = s > 0x1p-30 ? s : 0x1p-30;
+    }
+}
+
 /* Refinements nest at most this deep (each resolves at least a factor
  * of 2^11 in scale, so 64 levels span 704 binary orders of magnitude,
  * more than any set of doubles has room for in practice; the cap only
@@ -260,9 +350,9 @@ static void sort_run(uint64_t *w, uint64_t *tmp, size_t m) {
  * scale is ordered along a curve of its own. Stops when a refinement no
  * longer separates the sites (coordinates that differ only below what
  * halving keeps), or at MAX_DEPTH. tmp has room for m words. */
-static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
-                   uint64_t *tmp, size_t m, unsigned state, int depth,
-                   vor_counts *counts) {
+static void refine(const double *xy, const double scale[2],
+                   const uint16_t big[1024], uint64_t *w, uint64_t *tmp,
+                   size_t m, unsigned state, int depth, vor_counts *counts) {
     const uint64_t imask = ((uint64_t)1 << INDEX_BITS) - 1;
     double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY,
            ymax = -INFINITY;
@@ -273,7 +363,8 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
         ymin = p[1] < ymin ? p[1] : ymin;
         ymax = p[1] > ymax ? p[1] : ymax;
     }
-    double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
+    double hx = (xmax * 0.5 - xmin * 0.5) * scale[0],
+           hy = (ymax * 0.5 - ymin * 0.5) * scale[1];
     double half = hx > hy ? hx : hy;
     if (!(half > 0))
         return;
@@ -282,8 +373,8 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
         counts->order_keys += m;
     }
     quantiser qx, qy;
-    quantiser_init(&qx, xmin, half);
-    quantiser_init(&qy, ymin, half);
+    quantiser_init(&qx, xmin, half / scale[0]);
+    quantiser_init(&qy, ymin, half / scale[1]);
     for (size_t i = 0; i < m; i++) {
         uint64_t idx = w[i] & imask;
         uint32_t key = hilbert_key(big, state, quantise(&qx, xy[2 * idx]),
@@ -299,7 +390,7 @@ static void refine(const double *xy, const uint16_t big[1024], uint64_t *w,
         while (j < m && (w[j] >> INDEX_BITS) == (w[i] >> INDEX_BITS))
             j++;
         if (j - i > LEAF)
-            refine(xy, big, w + i, tmp, j - i,
+            refine(xy, scale, big, w + i, tmp, j - i,
                    key_state(state, (uint32_t)(w[i] >> INDEX_BITS)),
                    depth + 1, counts);
         i = j;
@@ -336,24 +427,6 @@ vor_status vor__insertion_order_in(const double *xy, size_t n,
         return VOR_OK;
     }
 
-    /* bounding box, and a square around it */
-    double box[4];
-    vor__bbox(xy, n, box);
-    const double xmin = box[0], ymin = box[1], xmax = box[2], ymax = box[3];
-    double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
-    double half = hx > hy ? hx : hy;
-    quantiser qx, qy;
-    quantiser_init(&qx, xmin, half);
-    quantiser_init(&qy, ymin, half);
-
-    /* rounds: k rounds, the last taking each site with probability 7/8,
-     * the one before 7/64, ..., the first the remaining ~FIRST_ROUND / n
-     * (the shift bound only keeps the shift inside size_t) */
-    int k = 1;
-    while (k < MAX_ROUNDS && ROUND_BITS * (k - 1) < 40 &&
-           ((size_t)FIRST_ROUND << (ROUND_BITS * (k - 1))) < n)
-        k++;
-
     uint64_t *w = scratch, *tmp = scratch ? scratch + n : NULL;
     if (!scratch) {
         w = vor__alloc_large(n, sizeof *w);
@@ -364,6 +437,27 @@ vor_status vor__insertion_order_in(const double *xy, size_t n,
         free(tmp);
         return VOR_ENOMEM;
     }
+
+    /* bounding box, each axis scaled for rows or columns, and a square
+     * around the scaled box */
+    double box[4], scale[2];
+    vor__bbox(xy, n, box);
+    const double xmin = box[0], ymin = box[1], xmax = box[2], ymax = box[3];
+    double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
+    axis_scales(xy, n, box, (uint32_t *)tmp, scale);
+    double half = hx * scale[0] > hy * scale[1] ? hx * scale[0] : hy * scale[1];
+    quantiser qx, qy;
+    quantiser_init(&qx, xmin, half / scale[0]);
+    quantiser_init(&qy, ymin, half / scale[1]);
+
+    /* rounds: k rounds, the last taking each site with probability 7/8,
+     * the one before 7/64, ..., the first the remaining ~FIRST_ROUND / n
+     * (the shift bound only keeps the shift inside size_t) */
+    int k = 1;
+    while (k < MAX_ROUNDS && ROUND_BITS * (k - 1) < 40 &&
+           ((size_t)FIRST_ROUND << (ROUND_BITS * (k - 1))) < n)
+        k++;
+
     if (counts) {
         counts->order_rounds += (uint64_t)k;
         counts->order_keys += n;
@@ -409,7 +503,8 @@ vor_status vor__insertion_order_in(const double *xy, size_t n,
         if (j - i > LEAF) {
             uint32_t key = (uint32_t)(w[i] >> INDEX_BITS) &
                            (((uint32_t)1 << KEY_BITS) - 1);
-            refine(xy, big, w + i, tmp, j - i, key_state(0, key), 1, counts);
+            refine(xy, scale, big, w + i, tmp, j - i, key_state(0, key), 1,
+                   counts);
         }
         i = j;
     }

@@ -328,6 +328,97 @@ static void test_curve_and_rounds(void **state) {
     free(xy);
 }
 
+/* Windows of 64 consecutive sites of the last round (from n / 4 on): the
+ * median of their extents in x and in y. */
+static void window_extents(const double *xy, size_t n, const uint32_t *o,
+                           double *ex, double *ey) {
+    enum { WIN = 64 };
+    size_t m = 0, cap = n / WIN + 1;
+    double *wx = malloc(cap * sizeof *wx), *wy = malloc(cap * sizeof *wy);
+    assert_true(wx && wy);
+    for (size_t i = n / 4; i + WIN <= n; i += WIN) {
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (size_t j = i; j < i + WIN; j++) {
+            const double *p = xy + 2 * o[j];
+            x0 = fmin(x0, p[0]);
+            x1 = fmax(x1, p[0]);
+            y0 = fmin(y0, p[1]);
+            y1 = fmax(y1, p[1]);
+        }
+        wx[m] = x1 - x0;
+        wy[m++] = y1 - y0;
+    }
+    for (size_t i = 1; i < m; i++) /* insertion sorts: m is small */
+        for (size_t j = i; j > 0 && wx[j - 1] > wx[j]; j--) {
+            double t = wx[j];
+            wx[j] = wx[j - 1];
+            wx[j - 1] = t;
+        }
+    for (size_t i = 1; i < m; i++)
+        for (size_t j = i; j > 0 && wy[j - 1] > wy[j]; j--) {
+            double t = wy[j];
+            wy[j] = wy[j - 1];
+            wy[j - 1] = t;
+        }
+    *ex = wx[m / 2];
+    *ey = wy[m / 2];
+    free(wx);
+    free(wy);
+}
+
+/* Rows: 100 rows of equal y, 1 apart, of 400 sites each in x in [0, 1]
+ * (0.0025 apart), with and without a jitter of 10^-7 in y, and the same
+ * as columns. Their triangles are long and thin, between neighbouring
+ * rows: the curve must fill neighbouring rows together (64 consecutive
+ * sites over several rows and a short piece of each), not a row at a
+ * time (a square cell of the bounding square holds 16 sites of one
+ * row, and 64 consecutive sites lie on one or two rows over a fifth of
+ * its length). A box as long (1 x 100) of uniform sites has triangles
+ * of every direction: its windows must stay about as wide as high. A
+ * city and one stray point at (0, 0) sit on two levels of each axis,
+ * unevenly filled: no rows there, the windows stay square. */
+static void test_rows_and_columns(void **state) {
+    (void)state;
+    const size_t rows = 100, per = 400, n = rows * per;
+    double *xy = malloc(2 * n * sizeof *xy);
+    assert_non_null(xy);
+    for (int k = 0; k < 6; k++) {
+        vt_rng r = {seed + (uint64_t)k};
+        for (size_t i = 0; i < n; i++) {
+            double along = vt_unit(&r), level = (double)(i % rows);
+            if (k == 1 || k == 3)
+                level += 1e-7 * vt_unit(&r);
+            if (k == 4)
+                level = 100 * vt_unit(&r);
+            int columns = k == 2 || k == 3;
+            xy[2 * i] = columns ? level : along;
+            xy[2 * i + 1] = columns ? along : level;
+            if (k == 5) { /* the city: degrees; the stray point */
+                xy[2 * i] = i == n / 3 ? 0 : 8.45 + 0.1 * vt_unit(&r);
+                xy[2 * i + 1] = i == n / 3 ? 0 : 47.25 + 0.1 * vt_unit(&r);
+            }
+        }
+        uint32_t *o = order_of(xy, n);
+        double ex, ey;
+        window_extents(xy, n, o, &ex, &ey);
+        static const char *names[] = {"rows",          "jittered rows",
+                                      "columns",       "jittered columns",
+                                      "1 x 100 box",   "city and stray"};
+        printf("# %s: 64 consecutive sites span %.4g x %.4g (median)\n",
+               names[k], ex, ey);
+        double along = k == 2 || k == 3 ? ey : ex,
+               across = k == 2 || k == 3 ? ex : ey;
+        if (k < 4) {
+            assert_true(across >= 3);   /* several rows */
+            assert_true(along < 0.05);  /* a short piece of each */
+        } else {
+            assert_true(ex < 4 * ey && ey < 4 * ex); /* square windows */
+        }
+        free(o);
+    }
+    free(xy);
+}
+
 /* Every standard set gives a permutation, deterministically. */
 static void test_standard_sets(void **state) {
     (void)state;
@@ -347,6 +438,7 @@ int main(void) {
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_curve_and_rounds),
         cmocka_unit_test(test_locality_skewed),
+        cmocka_unit_test(test_rows_and_columns),
         cmocka_unit_test(test_standard_sets),
     };
     return cmocka_run_group_tests_name("core/hilbert", tests, setup_seed,
