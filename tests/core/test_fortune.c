@@ -1500,6 +1500,64 @@ static void test_extreme_ranges(void **state) {
     }
 }
 
+/* Sites more than four times wider than tall, which the sweep runs
+ * along x (choose_frame), against the brute force and the other
+ * algorithms: sites log-uniform in x over 2^-60 .. 2^60 and uniform in y
+ * in [0, 1] (swept along y, the circles of sites far apart in x have tops
+ * known only to the scale of x: 39% of the event comparisons were exact;
+ * along x, under one in eight), a 1000 x 1 box, a hexagonal lattice of
+ * horizontal rows five times wider than tall (its columns, swept along
+ * x, are rows of equal sweep coordinate), an integer grid with
+ * duplicates, sites on a line but one, and boxes of exactly four and
+ * just over four times their height. */
+static void test_wide_sets(void **state) {
+    (void)state;
+    enum { N = 2000 };
+    static double xy[2 * N];
+    vt_rng r = {91};
+    print_message("wide sets: seed 91\n");
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = pow(2, 120 * vt_unit(&r) - 60);
+        xy[2 * i + 1] = vt_unit(&r);
+    }
+    vor_counts c;
+    counts_of("x log-uniform over 2^-60 .. 2^60, y in [0, 1]", xy, N, &c);
+    print_message("  %llu event comparisons, %llu exact\n",
+                  (unsigned long long)c.event_compares,
+                  (unsigned long long)c.exact);
+    assert_true(c.exact * 8 < c.event_compares);
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = 1000 * vt_unit(&r);
+        xy[2 * i + 1] = vt_unit(&r);
+    }
+    check_points("1000 x 1 box", xy, N, 1);
+    size_t n = 0;
+    for (int j = 0; j < 9; j++) /* rows sqrt(3)/2 apart, 9 x 100 */
+        for (int i = 0; i < 100; i++, n++) {
+            xy[2 * n] = i + 0.5 * (j % 2);
+            xy[2 * n + 1] = j * 0.8660254037844386;
+        }
+    check_points("hexagonal lattice, 100 x 9", xy, n, 1);
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = (double)(vt_next(&r) % 60);
+        xy[2 * i + 1] = (double)(vt_next(&r) % 8);
+    }
+    check_points("integer grid 60 x 8 with duplicates", xy, N, 1);
+    for (size_t i = 0; i < 500; i++) {
+        xy[2 * i] = (double)i;
+        xy[2 * i + 1] = i == 250 ? 1e-3 : 0;
+    }
+    check_points("a line and one site off it", xy, 500, 1);
+    for (int k = 0; k < 2; k++) {
+        for (size_t i = 0; i < 500; i++) {
+            xy[2 * i] = i == 0 ? 0 : i == 1 ? (k ? 4.000000000000001 : 4)
+                                            : 4 * vt_unit(&r);
+            xy[2 * i + 1] = i == 0 ? 0 : i == 1 ? 1 : vt_unit(&r);
+        }
+        check_points(k ? "just over 4 x 1" : "4 x 1", xy, 500, 1);
+    }
+}
+
 /* Every path of the site sort, each checked against the other algorithms:
  * the bucket sort with one huge bucket (an outlier stretches the y range,
  * so the other sites share the first bucket and are heapsorted), the
@@ -1780,6 +1838,7 @@ int main(void) {
         cmocka_unit_test(test_curves),
         cmocka_unit_test(test_after_last_site),
         cmocka_unit_test(test_extreme_ranges),
+        cmocka_unit_test(test_wide_sets),
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
         cmocka_unit_test(test_alloc_failures),
