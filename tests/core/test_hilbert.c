@@ -335,6 +335,18 @@ static void test_curve_and_rounds(void **state) {
     free(xy);
 }
 
+/* The median of v[0..m-1] (m > 0), which it sorts (by insertion: m is
+ * small). */
+static double median(double *v, size_t m) {
+    for (size_t i = 1; i < m; i++)
+        for (size_t j = i; j > 0 && v[j - 1] > v[j]; j--) {
+            double t = v[j];
+            v[j] = v[j - 1];
+            v[j - 1] = t;
+        }
+    return v[m / 2];
+}
+
 /* Windows of 64 consecutive sites of the last round (from n / 4 on): the
  * median of their extents in x and in y. */
 static void window_extents(const double *xy, size_t n, const uint32_t *o,
@@ -355,20 +367,8 @@ static void window_extents(const double *xy, size_t n, const uint32_t *o,
         wx[m] = x1 - x0;
         wy[m++] = y1 - y0;
     }
-    for (size_t i = 1; i < m; i++) /* insertion sorts: m is small */
-        for (size_t j = i; j > 0 && wx[j - 1] > wx[j]; j--) {
-            double t = wx[j];
-            wx[j] = wx[j - 1];
-            wx[j - 1] = t;
-        }
-    for (size_t i = 1; i < m; i++)
-        for (size_t j = i; j > 0 && wy[j - 1] > wy[j]; j--) {
-            double t = wy[j];
-            wy[j] = wy[j - 1];
-            wy[j - 1] = t;
-        }
-    *ex = wx[m / 2];
-    *ey = wy[m / 2];
+    *ex = median(wx, m);
+    *ey = median(wy, m);
     free(wx);
     free(wy);
 }
