@@ -71,7 +71,9 @@
  *   - cocircular sites produce several triangles with one circumcircle
  *     (zero-length Voronoi edges between them); the conversion finds them
  *     with the exact incircle and makes the centre of 4+ cocircular sites
- *     one vertex, as for the other algorithms;
+ *     one vertex, as for the other algorithms. When no two consecutive
+ *     vertex events had overlapping intervals, no two triangles share a
+ *     circle (vertex_at) and the conversion tests nothing;
  *   - the first sites of equal lowest y start the beach line as a row of
  *     arcs separated by vertical bisectors, unbounded below.
  *
@@ -179,6 +181,12 @@ typedef struct sweep {
     int safe;       /* coordinates in the filters' range */
     int lattice;    /* few bits per coordinate: equal tops are common */
     uint64_t equal_tops; /* ties of two events' tops found equal */
+    /* vertex events (circle events, sites exactly below a breakpoint)
+     * whose y interval overlapped the one before's (see vertex_at):
+     * none proves that no four sites of the mesh are cocircular */
+    uint64_t vertex_overlaps;
+    double vertex_hi; /* the last vertex event's interval's hi */
+    int vertex_seen;
 
     arc *arcs;
     uint8_t *red;    /* colour of each arc */
@@ -1926,6 +1934,19 @@ static vor_status renew_event(sweep *w, uint32_t b) {
 
 /* ---- Events -------------------------------------------------------------- */
 
+/* A vertex event whose top's y lies in [lo, hi] is being processed.
+ * Events come in the order of their tops, so two triangles of one circle
+ * (four or more cocircular sites, whose vertex events share the top) are
+ * made by vertex events with no other between them but events of that
+ * same top: two consecutive vertex events whose intervals overlap. If no
+ * two ever overlap, no two triangles of the mesh share a circle, and the
+ * conversion need not test its edges (vor__mesh_dual's hint -1). */
+static inline void vertex_at(sweep *w, double lo, double hi) {
+    w->vertex_overlaps += w->vertex_seen && lo <= w->vertex_hi;
+    w->vertex_hi = hi;
+    w->vertex_seen = 1;
+}
+
 /* Site i: split the arc above it, or open a vertex at once if it lies
  * exactly below a breakpoint.
  *
@@ -1970,6 +1991,7 @@ static vor_status site_event(sweep *w, uint32_t i) {
     uint32_t r = b, l = ARC(b).prev;
     uint32_t s = arc_new(w, i);
     if (s == NIL) return VOR_ENOMEM;
+    vertex_at(w, p[1], p[1]);
     /* triangle (l, r, i): i, on the sweep line, is the top of the circle
      * and l the left arc, so the three are counter-clockwise */
     uint32_t h = tri_new(w, ARC(l).site, ARC(r).site, i);
@@ -2101,7 +2123,9 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
         }
         if (q_size(w) > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
-            uint32_t b = (i == n ? q_top(w) : &w->heap[0])->arc;
+            const event *e = i == n ? q_top(w) : &w->heap[0];
+            uint32_t b = e->arc;
+            vertex_at(w, e->lo, e->hi);
             if (w->n_heap > 2) {
                 /* the next event is most often one of the top's
                  * children: its arc and neighbours will be read */
@@ -2263,7 +2287,10 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     /* vertex ids are sweep ranks: the site of rank v is order[v], at
      * lxy[2v] (moved, rescaled and turned exactly, which leaves every
      * predicate's sign unchanged) */
-    return vor__mesh_dual(s, &m, lxy, order, vor__cocircular_first(run, s->n), out);
+    int hint = !run->cocircular_first && w.vertex_overlaps == 0
+                   ? -1
+                   : vor__cocircular_first(run, s->n);
+    return vor__mesh_dual(s, &m, lxy, order, hint, out);
 
 fail:
     sweep_free(&w);

@@ -168,7 +168,8 @@ static inline int vor__cocircular_first(const vor__run *run, size_t n) {
  * there when d came, across the boundary edge a-c of d's new star, and
  * the construction tested d against it (the cavity's boundary, or the
  * flip test of the edge opposite d), exactly: a zero, a sign. Not for
- * Fortune's sweep, whose signs are its ties, not such tests. */
+ * Fortune's sweep, whose signs are its ties, not such tests: it has a
+ * proof of its own (fortune.c, vertex_at). */
 static inline int vor__mesh_hint(const vor__run *run, size_t n) {
     if (!run->cocircular_first && run->cocircular_signs == 0) return -1;
     return vor__cocircular_first(run, n);
