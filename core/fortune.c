@@ -2132,6 +2132,12 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
                 __builtin_prefetch(&w->arcs[w->heap[1].arc]);
                 __builtin_prefetch(&w->arcs[w->heap[2].arc]);
             }
+            /* the event's neighbours and edge record, read after the
+             * queue's removal: their misses overlap its work */
+            const arc *ab = &w->arcs[b];
+            __builtin_prefetch(&w->arcs[ab->prev]);
+            __builtin_prefetch(&w->arcs[ab->next]);
+            __builtin_prefetch(&w->ehe[ab->edge]);
             drop_event(w, b);
             st = circle_event(w, b);
         } else if (i < n) {
