@@ -187,6 +187,9 @@ typedef struct sweep {
     uint64_t vertex_overlaps;
     double vertex_hi; /* the last vertex event's interval's hi */
     int vertex_seen;
+    int vertex_circle;     /* it was a circle event, of triple vertex_t */
+    uint32_t vertex_t[3];
+    uint32_t vertex_exact; /* overlaps decided exactly so far */
 
     arc *arcs;
     uint8_t *red;    /* colour of each arc */
@@ -1934,17 +1937,47 @@ static vor_status renew_event(sweep *w, uint32_t b) {
 
 /* ---- Events -------------------------------------------------------------- */
 
-/* A vertex event whose top's y lies in [lo, hi] is being processed.
- * Events come in the order of their tops, so two triangles of one circle
- * (four or more cocircular sites, whose vertex events share the top) are
- * made by vertex events with no other between them but events of that
- * same top: two consecutive vertex events whose intervals overlap. If no
- * two ever overlap, no two triangles of the mesh share a circle, and the
- * conversion need not test its edges (vor__mesh_dual's hint -1). */
-static inline void vertex_at(sweep *w, double lo, double hi) {
-    w->vertex_overlaps += w->vertex_seen && lo <= w->vertex_hi;
+/* A vertex event whose top's y lies in [lo, hi] is being processed: a
+ * circle event of triple t, or (t NULL) a site exactly below a
+ * breakpoint, whose top is the site. Events come in the order of their
+ * tops, so two triangles of one circle (four or more cocircular sites,
+ * whose vertex events share the top) are made by vertex events with no
+ * other between them but events of that same top: two consecutive vertex
+ * events at one point, whose intervals overlap. If no two ever do, no two
+ * triangles of the mesh share a circle, and the conversion need not test
+ * its edges (vor__mesh_dual's hint -1). Where two intervals overlap, two
+ * sites are two points, and two circle events are compared exactly, up
+ * to VERTEX_EXACT times a run (a few chance overlaps among 10^6 sites of
+ * a dense cluster far from the origin, say); past that, or for a site
+ * and a circle event, the overlap counts as a sign. */
+#define VERTEX_EXACT 64
+
+/* 1 if the vertex event now (triple t, or NULL) is proven to lie at
+ * another point than the one before, whose interval overlapped. */
+static int another_point(sweep *w, const uint32_t *t) {
+    if (!t && !w->vertex_circle) return 1;
+    if (!t || !w->vertex_circle || w->vertex_overlaps ||
+        w->vertex_exact == VERTEX_EXACT)
+        return 0;
+    w->vertex_exact++;
+    const uint32_t *u = w->vertex_t;
+    const double *a1 = site_xy(w, u[0]), *b1 = site_xy(w, u[1]),
+                 *c1 = site_xy(w, u[2]), *a2 = site_xy(w, t[0]),
+                 *b2 = site_xy(w, t[1]), *c2 = site_xy(w, t[2]);
+    int c;
+    if (!vor__fortune_circle_cmp_small(a1, b1, c1, a2, b2, c2, &c))
+        c = vor__fortune_circle_cmp_exact(a1, b1, c1, a2, b2, c2, w->ws);
+    return c != 0;
+}
+
+static inline void vertex_at(sweep *w, double lo, double hi,
+                             const uint32_t *t) {
+    if (w->vertex_seen && lo <= w->vertex_hi && !another_point(w, t))
+        w->vertex_overlaps++;
     w->vertex_hi = hi;
     w->vertex_seen = 1;
+    w->vertex_circle = t != NULL;
+    if (t) memcpy(w->vertex_t, t, sizeof w->vertex_t);
 }
 
 /* Site i: split the arc above it, or open a vertex at once if it lies
@@ -1991,7 +2024,7 @@ static vor_status site_event(sweep *w, uint32_t i) {
     uint32_t r = b, l = ARC(b).prev;
     uint32_t s = arc_new(w, i);
     if (s == NIL) return VOR_ENOMEM;
-    vertex_at(w, p[1], p[1]);
+    vertex_at(w, p[1], p[1], NULL);
     /* triangle (l, r, i): i, on the sweep line, is the top of the circle
      * and l the left arc, so the three are counter-clockwise */
     uint32_t h = tri_new(w, ARC(l).site, ARC(r).site, i);
@@ -2125,7 +2158,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
             const event *e = i == n ? q_top(w) : &w->heap[0];
             uint32_t b = e->arc;
-            vertex_at(w, e->lo, e->hi);
+            vertex_at(w, e->lo, e->hi, w->recs[e->rec].s);
             if (w->n_heap > 2) {
                 /* the next event is most often one of the top's
                  * children: its arc and neighbours will be read */
