@@ -703,7 +703,9 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, frame f) {
     for (size_t j = 0; j < n; j++) {
         uint64_t k = dkey((s->xy[2 * j + along] - f.off[along]) * f.scale);
         a[j].k = k;
-        a[j].x = sign * ((s->xy[2 * j + 1 - along] - f.off[1 - along]) * f.scale);
+        /* + 0.0: a turned 0 is +0.0, as the sites' coordinates are */
+        a[j].x = sign * ((s->xy[2 * j + 1 - along] - f.off[1 - along]) *
+                         f.scale) + 0.0;
         a[j].i = (uint32_t)j;
         kmin = k < kmin ? k : kmin;
         kmax = k > kmax ? k : kmax;
