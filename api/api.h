@@ -172,6 +172,11 @@ typedef struct api_request {
     size_t n;
     int generated;   /* points came from a "generate" request */
     int trace;       /* report the algorithm's steps (JSON only) */
+    /* the caller's (not the request's): when set, the algorithms ask it now
+     * and then whether to go on (vor_options.stop); a computation it stops
+     * fails with API_UNAVAILABLE */
+    int (*stop)(void *ctx);
+    void *stop_ctx;
 } api_request;
 
 void api_request_init(api_request *r); /* fortune, default parts, JSON */

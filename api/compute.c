@@ -108,8 +108,11 @@ static api_code compute(const api_request *r, api_result *res, api_problem *p,
     res->t.prepare_ms = t1 - t0;
 
     api__tracer tracer = {&res->trace, res->sites, r->algorithm, {0}, 0};
-    vor_options opt = {&res->counts, r->trace ? api__trace_step : NULL,
-                       &tracer};
+    vor_options opt = {.counts = &res->counts,
+                       .trace = r->trace ? api__trace_step : NULL,
+                       .trace_ctx = &tracer,
+                       .stop = r->stop,
+                       .stop_ctx = r->stop_ctx};
     vor_status st = vor_compute_ex(res->sites, r->algorithm, &opt, &res->diagram);
     res->traced = r->trace;
     if (st == VOR_OK && res->trace.oom) st = VOR_ENOMEM;
@@ -255,11 +258,13 @@ static double median(const double *v, int n) {
 /* One run of algorithm a on c->sites: the diagram, clipped to box when
  * box != NULL (the clipped diagram is not kept), timed into c->runs.
  * Returns the core's status; on success *d is the new diagram. */
-static vor_status run_once(api_compare *c, vor_algorithm a, const double *box,
+static vor_status run_once(api_compare *c, const api_request *r,
+                           vor_algorithm a, const double *box,
                            vor_diagram **d) {
     double t0 = api_clock_ms();
     vor_counts counts;
-    vor_options opt = {&counts, NULL, NULL};
+    vor_options opt = {.counts = &counts, .stop = r->stop,
+                       .stop_ctx = r->stop_ctx};
     vor_status st = vor_compute_ex(c->sites, a, &opt, d);
     double t1 = api_clock_ms(), t2 = t1;
     if (st == VOR_OK) c->res[a].counts = counts; /* the same every run */
@@ -321,7 +326,7 @@ api_code api_compare_run(const api_request *r, api_compare *c, api_problem *p) {
             api_result *res = &c->res[a];
             if (c->status[a] != VOR_OK) continue;
             vor_diagram *d = NULL;
-            vor_status st = run_once(c, a, box, &d);
+            vor_status st = run_once(c, r, a, box, &d);
             if (st != VOR_OK && st != VOR_ENOMEM && st != VOR_EUNAVAILABLE) {
                 /* Not the algorithm's own failure: the request's. */
                 api_problem_from_status(p, st);

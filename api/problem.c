@@ -50,7 +50,8 @@ api_code api_problem_from_status(api_problem *p, vor_status s) {
     api_code c;
     switch (s) {
     case VOR_OK: return API_OK;
-    case VOR_ENOMEM: c = API_UNAVAILABLE; break;
+    case VOR_ENOMEM:
+    case VOR_ESTOPPED: c = API_UNAVAILABLE; break;
     case VOR_ETOOMANY: c = API_TOO_LARGE; break;
     case VOR_ENONFINITE:
     case VOR_EBOUNDS:

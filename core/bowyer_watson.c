@@ -311,7 +311,7 @@ static vor_status build(const vor_sites *s, uint32_t *order, vor__mesh *m,
         vor__mesh_trace_begin(m, order, s->n, run, &c);
     }
     for (uint32_t v = 3; v < s->n && r == VOR_OK; v++)
-        r = insert(&st, v);
+        r = vor__stop_now(run, v - 3) ? VOR_ESTOPPED : insert(&st, v);
     vor__walk_count(&st.w, run);
     run->counts.triangles_created += st.created;
     run->counts.cavity_triangles += st.removed;

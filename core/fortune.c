@@ -2147,8 +2147,9 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
         if (st != VOR_OK) return st;
         w->run->trace(w->run->trace_ctx, &t);
     }
-    for (;;) {
+    for (uint64_t step = 0;; step++) {
         vor_status st;
+        if (vor__stop_now(w->run, step)) return VOR_ESTOPPED;
         if (i == n && w->late_ok) {
             if (w->bhead && q_size(w) + w->n_late >= REFIT_MIN) {
                 if ((st = refit(w)) != VOR_OK) return st;

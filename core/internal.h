@@ -154,6 +154,8 @@ typedef struct vor__run {
     vor_counts counts;
     vor_trace_fn trace;
     void *trace_ctx;
+    int (*stop)(void *ctx); /* vor_options.stop, or NULL */
+    void *stop_ctx;
     /* signs of cocircular sites that the construction met: incircle tests
      * that found four (Bowyer-Watson, flip); ties of circle tops that
      * needed exact arithmetic or were proven equal, and a lattice
@@ -167,6 +169,13 @@ typedef struct vor__run {
      * the tests, decides by cocircular_signs (0) */
     int cocircular_first;
 } vor__run;
+
+/* 1 when the caller asks the run to stop (vor_options.stop); asked only
+ * when step is a multiple of VOR_STOP_EVERY, so that the loops of the
+ * algorithms can call it with their counter at every step. */
+static inline int vor__stop_now(const vor__run *run, uint64_t step) {
+    return step % VOR_STOP_EVERY == 0 && run->stop && run->stop(run->stop_ctx);
+}
 
 typedef vor_status (*vor__algorithm_run_fn)(const vor_sites *s, vor__run *run,
                                             vor_diagram **out);

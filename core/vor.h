@@ -38,7 +38,8 @@
     X(VOR_EBOUNDS, 422, "bounds must be finite with xmin < xmax, ymin < ymax") \
     X(VOR_EALGORITHM, 422, "unknown algorithm")                               \
     X(VOR_EINVAL, 400, "invalid argument")                                    \
-    X(VOR_EUNAVAILABLE, 501, "algorithm not available")
+    X(VOR_EUNAVAILABLE, 501, "algorithm not available")                      \
+    X(VOR_ESTOPPED, 503, "stopped by the caller before it finished")
 
 typedef enum vor_status {
 #define VOR__ENUM(name, http, msg) name,
@@ -368,12 +369,24 @@ typedef struct vor_options {
     vor_counts *counts; /* filled when not NULL (zeroed first) */
     vor_trace_fn trace; /* called for every step when not NULL */
     void *trace_ctx;    /* its first argument */
+    /* When not NULL, asked now and then whether the caller still wants the
+     * answer (non-zero: stop). The algorithm asks before its first site and
+     * then every VOR_STOP_EVERY sites or events, so that it gives up within
+     * a few milliseconds of the answer being given up on, whatever the
+     * input: it then returns VOR_ESTOPPED, having freed everything. Called
+     * on the computing thread; may read a flag another thread sets. */
+    int (*stop)(void *ctx);
+    void *stop_ctx; /* its first argument */
 } vor_options;
 
+/* How many sites (Bowyer-Watson, flip) or events and sites (Fortune) the
+ * algorithms take between two questions to vor_options.stop. */
+#define VOR_STOP_EVERY 1024
+
 /* vor_compute with options: opt (may be NULL) asks for the counts and a
- * trace. The diagram is the same as vor_compute's, bit for bit. On error
- * the counts and the steps traced so far describe the work done until
- * then. */
+ * trace, and may say when to stop. The diagram is the same as
+ * vor_compute's, bit for bit. On error the counts and the steps traced so
+ * far describe the work done until then. */
 vor_status vor_compute_ex(const vor_sites *sites, vor_algorithm algorithm,
                           const vor_options *opt, vor_diagram **out);
 

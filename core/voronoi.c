@@ -36,6 +36,8 @@ vor_status vor_compute_ex(const vor_sites *sites, vor_algorithm algorithm,
     if (opt) {
         run.trace = opt->trace;
         run.trace_ctx = opt->trace_ctx;
+        run.stop = opt->stop;
+        run.stop_ctx = opt->stop_ctx;
     }
     vor_status st = algorithms[algorithm](sites, &run, out);
     if (st != VOR_OK && *out) { /* an algorithm must not leave a result */

@@ -31,6 +31,7 @@ struct srv_metrics {
     counter points[VOR_ALGORITHM_COUNT];
     counter runs[VOR_ALGORITHM_COUNT];
     counter compute_ns[VOR_ALGORITHM_COUNT];
+    counter stopped;
 };
 
 static const double bounds[SRV_N_LATENCY_BUCKETS] = SRV_LATENCY_BUCKETS;
@@ -96,6 +97,8 @@ void srv_metrics_compute(srv_metrics *m, vor_algorithm a, size_t n,
     add(&m->runs[a], 1);
     add(&m->compute_ns[a], to_ns(seconds));
 }
+
+void srv_metrics_stopped(srv_metrics *m) { add(&m->stopped, 1); }
 
 static void header(api_buf *out, const char *name, const char *type,
                    const char *help) {
@@ -175,6 +178,11 @@ void srv_metrics_render(srv_metrics *m, const srv_gauges *g, api_buf *out) {
                        vor_algorithm_name((vor_algorithm)a),
                        (double)get(&c->compute_ns[a]) / 1e9);
 
+    header(out, "voronoid_computations_stopped_total", "counter",
+           "Computations stopped unfinished because their answer was given "
+           "up on (--timeout passed, or shutdown).");
+    api_buf_printf(out, "voronoid_computations_stopped_total %llu\n",
+                   (unsigned long long)get(&c->stopped));
     header(out, "voronoid_queue_depth", "gauge",
            "Requests waiting for a compute worker.");
     api_buf_printf(out, "voronoid_queue_depth %zu\n", g->queue_depth);

@@ -2,7 +2,8 @@
  *
  * Counted here: requests by route and status, a latency histogram per
  * route, requests that ended without an answer (client gone, connection
- * timed out), points and compute seconds per algorithm. Gauges that other
+ * timed out), points and compute seconds per algorithm, computations
+ * stopped because nobody waited for them any more. Gauges that other
  * modules own (queue depth, in-flight requests, readiness) are passed in at
  * render time. All functions are thread-safe and take no lock (atomic
  * counters).
@@ -41,6 +42,10 @@ void srv_metrics_aborted(srv_metrics *m, srv_route route);
 /* One algorithm run over n points taking `seconds` of compute. */
 void srv_metrics_compute(srv_metrics *m, vor_algorithm a, size_t n,
                          double seconds);
+
+/* One computation stopped when its answer was given up on (deadline,
+ * shutdown). */
+void srv_metrics_stopped(srv_metrics *m);
 
 /* Appends the text exposition (format 0.0.4) to out. */
 void srv_metrics_render(srv_metrics *m, const srv_gauges *g, api_buf *out);

@@ -8,10 +8,10 @@
  *   SRV_JOB_RAN        run() returned before the deadline; called on the
  *                      worker right after run().
  *   SRV_JOB_EXPIRED    the deadline passed first: a queued job is dropped
- *                      without running; a running job keeps running (the
- *                      core cannot be interrupted) but done() is called at
- *                      the deadline, from the timer thread, and whatever
- *                      run() produces afterwards is to be discarded.
+ *                      without running; for a running job done() is called
+ *                      at the deadline, from the timer thread, and whatever
+ *                      run() produces afterwards is to be discarded (run()
+ *                      sees srv_job_abandoned and stops early).
  *   SRV_JOB_CANCELLED  srv_pool_cancel_all() (shutdown): like EXPIRED.
  *
  * After done() the pool may still be running run() (EXPIRED, CANCELLED);

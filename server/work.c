@@ -18,7 +18,9 @@
  * worker when run() finished in time, on the timer thread at the
  * deadline, or by srv_server_cancel), and only then is the connection
  * resumed; run()'s own output lives in separate fields, so a late run()
- * never races the answer. The job is freed when both references are gone.
+ * never races the answer. A run() whose answer was given up on stops: the
+ * algorithms ask job_stop every VOR_STOP_EVERY sites or events. The job
+ * is freed when both references are gone.
  *
  * Cost: parsing, computing, serializing and gzip happen on the workers,
  * except for inline requests (bounded by --inline-points and
@@ -57,6 +59,7 @@ struct srv_compute_job {
     srv_reply out;        /* run()'s result, private to run() and done(RAN) */
     srv_reply r;          /* the answer, written once by done() */
     atomic_int answered;
+    int stopped;          /* run(): the core was told to stop (job_stop) */
 };
 
 
@@ -132,6 +135,16 @@ typedef struct job_input {
 
 static int job_stopped(srv_job *base) {
     return base != NULL && srv_job_abandoned(base);
+}
+
+/* The core's question (api_request.stop): nobody waits for the answer any
+ * more (deadline, shutdown), so the worker stops computing it and is free
+ * for the next request within milliseconds. */
+static int job_stop(void *ctx) {
+    srv_compute_job *j = ctx;
+    if (!srv_job_abandoned(&j->base)) return 0;
+    j->stopped = 1;
+    return 1;
 }
 
 /* Stage 1: Accept, then the body, then the query options into r, so that
@@ -372,8 +385,11 @@ static void job_run(srv_job *base) {
             out->points = (long long)r.n;
         } else {
             size_t stream_held = 0;
+            r.stop = job_stop;
+            r.stop_ctx = j;
             compute_answer(s, &r, j->compare, queue_ms, parse_ms, base,
                            j->instance, out, 1, j->gzip_ok, &stream_held);
+            if (j->stopped) srv_metrics_stopped(s->metrics);
             if (!srv_job_abandoned(base) && out->body != NULL)
                 srv__maybe_gzip(out, j->gzip_ok);
             /* Keep what the answer holds (the body until libmicrohttpd

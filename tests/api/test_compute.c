@@ -343,6 +343,53 @@ static void test_compare_repeat_default_and_limits(void **state) {
     api_request_clear(&r);
 }
 
+/* The caller's stop (api_request.stop): asked by the algorithm, a yes
+ * fails the computation, or the whole comparison, with 503 and a detail
+ * that says so; nothing is kept. */
+static int stop_asked;
+static int stop_now(void *ctx) {
+    (void)ctx;
+    stop_asked++;
+    return 1;
+}
+
+static void test_stopped(void **state) {
+    (void)state;
+    double *xy = vt_uniform(5000, 3);
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        if (!available[a]) continue;
+        api_request r = request_for(xy, 5000, (vor_algorithm)a,
+                                    API_PART_DEFAULT, NULL);
+        r.stop = stop_now;
+        stop_asked = 0;
+        api_result res;
+        api_problem p;
+        api_result_init(&res);
+        assert_int_equal(api_compute(&r, &res, &p), API_UNAVAILABLE);
+        assert_int_equal(stop_asked, 1);
+        assert_int_equal(api_code_http(p.code), 503);
+        if (strstr(p.detail, "stopped by the caller") == NULL)
+            fail_msg("detail: %s", p.detail);
+        assert_null(res.diagram);
+        api_result_clear(&res);
+        api_request_clear(&r);
+    }
+    api_request r = request_for(xy, 5000, VOR_FORTUNE, API_PART_DEFAULT, NULL);
+    r.stop = stop_now;
+    stop_asked = 0;
+    api_compare c;
+    api_problem p;
+    api_compare_init(&c);
+    assert_int_equal(api_compare_run(&r, &c, &p), API_UNAVAILABLE);
+    assert_int_equal(stop_asked, 1); /* the first run stops; no other runs */
+    if (strstr(p.detail, "stopped by the caller") == NULL)
+        fail_msg("detail: %s", p.detail);
+    assert_null(c.sites);
+    api_compare_clear(&c);
+    api_request_clear(&r);
+    free(xy);
+}
+
 /* A first difference is explained, in the terms of the canonical form. */
 static void test_difference_explained(void **state) {
     (void)state;
@@ -748,6 +795,7 @@ int main(void) {
         cmocka_unit_test(test_compare_agrees),
         cmocka_unit_test(test_compare_repeat),
         cmocka_unit_test(test_compare_repeat_default_and_limits),
+        cmocka_unit_test(test_stopped),
         cmocka_unit_test(test_difference_explained),
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_small_inputs),

@@ -44,7 +44,7 @@ static vor_sites *sites_of(const double *xy, size_t n) {
 static vor_counts counts_of(const vor_sites *s, vor_algorithm a) {
     vor_counts c;
     memset(&c, 0xab, sizeof c); /* must be overwritten */
-    vor_options o = {&c, NULL, NULL};
+    vor_options o = {.counts = &c};
     vor_diagram *d = NULL;
     assert_int_equal(vor_compute_ex(s, a, &o, &d), VOR_OK);
     vor_diagram_free(d);
@@ -112,7 +112,7 @@ static void test_deterministic(void **state) {
             check_applies(&c1, (vor_algorithm)a);
             /* the same diagram as vor_compute's */
             vor_diagram *d1 = NULL, *d2 = NULL;
-            vor_options o = {&c2, NULL, NULL};
+            vor_options o = {.counts = &c2};
             assert_int_equal(vor_compute(s, (vor_algorithm)a, &d1), VOR_OK);
             assert_int_equal(vor_compute_ex(s, (vor_algorithm)a, &o, &d2), VOR_OK);
             assert_true(vor_diagram_equal(d1, d2));
@@ -297,7 +297,7 @@ static void test_degenerate_and_errors(void **state) {
     /* errors leave the counts zeroed */
     vor_counts c;
     memset(&c, 0xab, sizeof c);
-    vor_options o = {&c, NULL, NULL};
+    vor_options o = {.counts = &c};
     vor_diagram *d = NULL;
     assert_int_equal(vor_compute_ex(s, VOR_ALGORITHM_COUNT, &o, &d), VOR_EALGORITHM);
     assert_null(d);

@@ -1169,7 +1169,7 @@ static void test_grid_1000(void **state) {
 static void counts_of(const char *name, const double *xy, size_t n,
                       vor_counts *c) {
     check_points(name, xy, n, 1);
-    vor_options o = {c, NULL, NULL};
+    vor_options o = {.counts = c};
     vor_sites *s = sites_of(xy, n);
     vor_diagram *f = NULL;
     assert_int_equal(vor_compute_ex(s, VOR_FORTUNE, &o, &f), VOR_OK);

@@ -58,7 +58,8 @@ static int trace_one(const char *name, const double *xy, size_t n,
         return 1;
     }
     vor_counts c, plain_c;
-    vor_options o = {&c, rp_hook, &r}, no_trace = {&plain_c, NULL, NULL};
+    vor_options o = {.counts = &c, .trace = rp_hook, .trace_ctx = &r},
+                no_trace = {.counts = &plain_c};
     vor_diagram *d = NULL, *plain = NULL, *rd = NULL;
     vor_status st = vor_compute_ex(s, a, &o, &d);
     vor_status st2 = vor_compute_ex(s, a, &no_trace, &plain);
@@ -213,7 +214,7 @@ static void test_replayer_notices(void **state) {
             replay r;
             assert_int_equal(rp_init(&r, s, (vor_algorithm)a), 0);
             dropper dr = {&r, 0, drop};
-            vor_options o = {NULL, drop_hook, &dr};
+            vor_options o = {.trace = drop_hook, .trace_ctx = &dr};
             vor_diagram *d = NULL, *rd = NULL;
             assert_int_equal(vor_compute_ex(s, (vor_algorithm)a, &o, &d), VOR_OK);
             int failed = rp_finish(&r, &rd) != 0 || !vor_diagram_equal(rd, d);
@@ -250,7 +251,7 @@ static void test_step_order(void **state) {
     assert_int_equal(vor_sites_new(xy, 300, &s, NULL), VOR_OK);
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
         kinds k = {0};
-        vor_options o = {NULL, kinds_hook, &k};
+        vor_options o = {.trace = kinds_hook, .trace_ctx = &k};
         vor_diagram *d = NULL;
         assert_int_equal(vor_compute_ex(s, (vor_algorithm)a, &o, &d), VOR_OK);
         assert_int_equal(k.first, VOR_STEP_ORDER);
@@ -293,7 +294,8 @@ static void test_traced_alloc_failures(void **state) {
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
         uint64_t steps = 0;
         vor_counts c;
-        vor_options o = {&c, count_hook, &steps};
+        vor_options o = {.counts = &c, .trace = count_hook,
+                         .trace_ctx = &steps};
         vor_diagram *d = NULL;
         fault_arm(-1);
         vor_status st = vor_compute_ex(s, (vor_algorithm)a, &o, &d);

@@ -3,8 +3,9 @@
  *     503 + Retry-After for what does not fit, 200 for the rest, and the
  *     service recovers once the burst is over;
  *   - with a short --timeout, a request being computed and one waiting in
- *     the queue both answer 504 (the running computation finishes in the
- *     background and its result is discarded), and the service recovers.
+ *     the queue both answer 504, and the service recovers;
+ *   - a computation past its deadline stops (the core is asked whether
+ *     to go on), and its worker is free again.
  * Slow requests are sized on this machine first (it_calibrate); the tests
  * assert outcomes, never durations. */
 #include <setjmp.h>
@@ -132,7 +133,7 @@ static void test_deadline_504(void **state) {
      * the queue. */
     assert_int_equal(running, 1);
     assert_int_equal(queued, 1);
-    /* The abandoned computation ends in the background; then all is well
+    /* The abandoned computation stops in the background; then all is well
      * (a generous deadline is not needed for 5 points). */
     wait_workers_idle(&d);
     small_request_works(&d);
@@ -142,11 +143,41 @@ static void test_deadline_504(void **state) {
     assert_int_equal(it_cleanup(&d), 0);
 }
 
+/* A computation whose answer nobody waits for any more stops: a
+ * comparison many times longer than the deadline (--timeout as long as
+ * one slow /voronoi, so that it passes while the algorithms run, not
+ * while the points are generated) answers 504, and the worker counts it
+ * stopped. Were it left to finish, the count would stay 0. */
+static void test_deadline_stops_computation(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "1", "--timeout", "0.4", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    size_t n = it_calibrate(&d, 0.4, 1000000);
+    size_t repeat = 10000000 / n < 10 ? 10000000 / n : 10;
+    char body[256];
+    snprintf(body, sizeof body,
+             "{\"generate\": {\"distribution\": \"uniform\", \"n\": %zu, "
+             "\"seed\": 2}, \"format\": \"timings\", \"repeat\": %zu}",
+             n, repeat);
+    it_req q = {.path = "/compare", .body = body, .len = strlen(body)};
+    it_resp r;
+    it_http(&d, &q, &r);
+    if (r.status != 504) fail_msg("status %ld %s", r.status, r.body);
+    it_free(&r);
+    wait_workers_idle(&d);
+    assert_int_equal(it_get_metric(&d, "voronoid_computations_stopped_total"),
+                     1);
+    small_request_works(&d);
+    assert_int_equal(it_cleanup(&d), 0);
+}
+
 int main(void) {
     curl_global_init(CURL_GLOBAL_ALL);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_full_queue_503_then_recovers),
         cmocka_unit_test(test_deadline_504),
+        cmocka_unit_test(test_deadline_stops_computation),
     };
     int rc = cmocka_run_group_tests_name("integration/overload", tests, NULL,
                                          NULL);

@@ -50,6 +50,8 @@ static void test_counts_and_histogram(void **state) {
     srv_metrics_aborted(m, SRV_ROUTE_COMPARE);
     srv_metrics_compute(m, VOR_FLIP, 1000, 0.5);
     srv_metrics_compute(m, VOR_FLIP, 24, 0.25);
+    srv_metrics_stopped(m);
+    srv_metrics_stopped(m);
     srv_gauges g = {3, 64, 2, 2, 5, 1, 7000, 1 << 30, 9000, 4, 12, 6, 5, 3};
     char *t = render(m, &g);
 
@@ -104,6 +106,7 @@ static void test_counts_and_histogram(void **state) {
                 2);
     assert_true(sample(t, "voronoid_compute_seconds_total{algorithm=\"flip\"}")
                 == 0.75);
+    assert_true(sample(t, "voronoid_computations_stopped_total") == 2);
     assert_true(sample(t, "voronoid_queue_depth") == 3);
     assert_true(sample(t, "voronoid_queue_capacity") == 64);
     assert_true(sample(t, "voronoid_workers_busy") == 2);
