@@ -82,8 +82,9 @@ static void split_double(double v, int64_t *m, int *e) {
 }
 
 /* Converts k <= 12 doubles to integers sharing the factor 2^E (see
- * above); every out[i] needs IN_LIMBS limbs. */
-static void big_from_doubles(big *out, const double *v, int k) {
+ * above); every out[i] needs IN_LIMBS limbs. Returns E (INT32_MAX when
+ * every value is 0). */
+static int big_from_doubles(big *out, const double *v, int k) {
     int64_t m[12] = {0};
     int e[12] = {0}, emin = INT32_MAX;
     assert(k <= 12);
@@ -98,6 +99,7 @@ static void big_from_doubles(big *out, const double *v, int k) {
         else
             big_set_shifted(&out[i], m[i], e[i] - emin);
     }
+    return emin;
 }
 
 /* |r| = |x| + |y|; r distinct from x and y. */
@@ -208,19 +210,20 @@ static int big_cmp(const big *x, const big *y) {
 }
 
 /* out[2(i-1)], out[2(i-1)+1] = point i minus point 0, for the k <= 4
- * points (x,y pairs) of v, as integers sharing one factor 2^E; each out
- * needs IN_LIMBS + 1 limbs. A separate frame, so that the converted inputs
+ * points (x,y pairs) of v, as integers sharing one factor 2^E (returned);
+ * each out needs IN_LIMBS + 1 limbs. A separate frame, so that the converted inputs
  * do not stay on the stack. */
-static void big_diffs(big *out, const double *v, int k) {
+static int big_diffs(big *out, const double *v, int k) {
     mp_limb_t store[8][IN_LIMBS];
     big in[8];
     assert(k <= 4);
     for (int i = 0; i < 2 * k; i++) in[i] = (big){0, IN_LIMBS, store[i]};
-    big_from_doubles(in, v, 2 * k);
+    int e = big_from_doubles(in, v, 2 * k);
     for (int i = 1; i < k; i++) {
         big_sub(&out[2 * (i - 1)], &in[2 * i], &in[0]);
         big_sub(&out[2 * (i - 1) + 1], &in[2 * i + 1], &in[1]);
     }
+    return e;
 }
 
 /* ---- Small integers ----------------------------------------------------------
@@ -1201,6 +1204,131 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
     /* same y: compare x with the centre's */
     big_mul(&t1, &twod, sx);
     return big_cmp(&t1, &ci.nx) < 0;
+}
+
+/* A positive number m 2^e kept as a double m in [0.5, 1) and an int e:
+ * the integers of a circle can have thousands of bits, past the range of
+ * a double, and here they are only multiplied, divided, square-rooted and
+ * added to each other when positive, each time with a relative error of
+ * at most one rounding. */
+typedef struct fe {
+    double m;
+    long e;
+} fe;
+
+static fe fe_norm(double m, long e) {
+    int k;
+    double f = frexp(m, &k);
+    return (fe){f, e + k};
+}
+
+/* |x| rounded to a double's precision: the top 64 bits, truncated (a
+ * relative error below 2^-63), then rounded to 53 bits. x != 0. */
+static fe fe_of_big(const big *x) {
+    int n = x->n < 0 ? -x->n : x->n;
+    mp_limb_t hi = x->d[n - 1], lo = n > 1 ? x->d[n - 2] : 0;
+    int z = __builtin_clzll(hi);
+    uint64_t top = z ? (hi << z) | (lo >> (GMP_NUMB_BITS - z)) : hi;
+    return fe_norm((double)top, (long)(n - 1) * GMP_NUMB_BITS - z);
+}
+
+static fe fe_mul(fe a, fe b) { return fe_norm(a.m * b.m, a.e + b.e); }
+static fe fe_div(fe a, fe b) { return fe_norm(a.m / b.m, a.e - b.e); }
+
+static fe fe_sqrt(fe a) {
+    if (a.e % 2) return fe_norm(sqrt(a.m * 2), (a.e - 1) / 2);
+    return fe_norm(sqrt(a.m), a.e / 2);
+}
+
+static fe fe_add(fe a, fe b) { /* both positive */
+    if (a.e < b.e) {
+        fe t = a;
+        a = b;
+        b = t;
+    }
+    long d = a.e - b.e; /* the smaller one past 2^-1100 of the sum: gone */
+    return fe_norm(a.m + (d > 1100 ? 0 : ldexp(b.m, (int)-d)), a.e);
+}
+
+/* An interval around the y of the top of the circle through a, b, c
+ * (orient2d > 0) from the circle's exact integers: 1 with [*lo, *hi]
+ * at most about 2^-44 of the top's offset wide, 0 if the top lies
+ * beyond the doubles. For the sweep's events whose float interval is
+ * wide or unbounded (vor__fortune_circle_top): sites over hundreds of
+ * orders of magnitude, where neither the float filter nor the
+ * double-double bounds (whose range they leave) can say more, and two
+ * such events would otherwise meet the exact comparison every time.
+ *
+ * With D, N (circle_of) in units of 2^E (big_diffs), the top is A.y + g
+ * 2^E, g = (Ny + sqrt(R)) / (2D); for Ny < 0 the sum cancels and g =
+ * Nx^2 / (2D (sqrt(R) + |Ny|)) instead (the same value). Either way
+ * only positive numbers meet: D, Nx, Ny exact, each rounded once to a
+ * double's precision (2^-52), then at most seven operations of one
+ * rounding each, so g's relative error is under 16 eps = 2^-49; the
+ * bound below takes 2^-46 of it, then one rounding of the top and an
+ * absolute 2^-1060 for an underflow of g 2^E. */
+int vor__fortune_circle_top_tight(const double *a, const double *b,
+                                  const double *c, double *lo, double *hi) {
+    enum { L = 4 * IN_LIMBS + 8 };
+    const double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
+    mp_limb_t store[4][IN_LIMBS + 1];
+    big dif[4];
+    for (int i = 0; i < 4; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
+    int e = big_diffs(dif, v, 3);
+    const big *bx = &dif[0], *by = &dif[1], *cx = &dif[2], *cy = &dif[3];
+    BIG_LOCAL(t1, L);
+    BIG_LOCAL(t2, L);
+    BIG_LOCAL(b2, L);
+    BIG_LOCAL(c2, L);
+    BIG_LOCAL(d, L);
+    BIG_LOCAL(nx, L);
+    BIG_LOCAL(ny, L);
+    big_mul(&t1, bx, cy);
+    big_mul(&t2, by, cx);
+    big_sub(&d, &t1, &t2);
+    if (big_sign(&d) <= 0) return 0; /* not reached: orient2d > 0 */
+    big_mul(&t1, bx, bx);
+    big_mul(&t2, by, by);
+    big_add(&b2, &t1, &t2);
+    big_mul(&t1, cx, cx);
+    big_mul(&t2, cy, cy);
+    big_add(&c2, &t1, &t2);
+    big_mul(&t1, cy, &b2);
+    big_mul(&t2, by, &c2);
+    big_sub(&nx, &t1, &t2);
+    big_mul(&t1, bx, &c2);
+    big_mul(&t2, cx, &b2);
+    big_sub(&ny, &t1, &t2);
+    fe twod = fe_of_big(&d);
+    twod.e++;
+    fe g;
+    if (big_sign(&ny) == 0 && big_sign(&nx) == 0) {
+        return 0; /* not reached: the sites are distinct */
+    } else if (big_sign(&nx) == 0) {
+        /* the centre straight above or below A: g = (Ny + |Ny|) / 2D */
+        if (big_sign(&ny) < 0) g = (fe){0, 0};
+        else g = fe_div(fe_of_big(&ny), twod), g.e++;
+    } else {
+        fe fx = fe_of_big(&nx), fx2 = fe_mul(fx, fx);
+        if (big_sign(&ny) == 0) {
+            g = fe_div(fe_sqrt(fx2), twod);
+        } else {
+            fe fy = fe_of_big(&ny);
+            fe r = fe_sqrt(fe_add(fx2, fe_mul(fy, fy)));
+            if (big_sign(&ny) > 0)
+                g = fe_div(fe_add(fy, r), twod);
+            else
+                g = fe_div(fx2, fe_mul(twod, fe_add(r, fy)));
+        }
+    }
+    long ge = g.e + e;
+    double gd = g.m == 0 ? 0 : ge > 1100 ? INFINITY
+                             : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
+    double t = a[1] + gd;
+    double err = 0x1p-46 * gd + 0x1p-52 * fabs(t) + 0x1p-1060;
+    *lo = t - err;
+    *hi = t + err;
+    return isfinite(*lo) && isfinite(*hi);
 }
 
 /* Workspace of the circle comparison: degree 20 in the inputs, so up to

@@ -163,6 +163,13 @@ static inline int vor__fortune_dd_cmp(double hi1, double lo1, double err1,
     return 0;
 }
 
+/* An interval of relative width about 2^-44 around the y of the top of
+ * the circle through a, b, c (orient2d > 0), for any finite input, from
+ * the circle's exact integers (a few microseconds): 1 with [*lo, *hi],
+ * or 0 if the top lies beyond the doubles. */
+int vor__fortune_circle_top_tight(const double *a, const double *b,
+                                  const double *c, double *lo, double *hi);
+
 /* Exact ties cheaply. 1 if the centre and squared radius of the circle
  * through a, b, c (orient2d > 0) are exactly representable and were
  * computed exactly: out = {x, y, r^2}. Two such circles have equal tops iff
