@@ -389,6 +389,52 @@ int vor__fortune_circle_cmp_small(const double *a1, const double *b1,
     return 1;
 }
 
+/* ---- Wide-range numbers ------------------------------------------------- */
+
+/* A positive number m 2^e kept as a double m in [0.5, 1) and an int e:
+ * the integers of a circle can have thousands of bits, past the range of
+ * a double, and here they are only multiplied, divided, square-rooted and
+ * added to each other when positive, each time with a relative error of
+ * at most one rounding. */
+typedef struct fe {
+    double m;
+    long e;
+} fe;
+
+static fe fe_norm(double m, long e) {
+    int k;
+    double f = frexp(m, &k);
+    return (fe){f, e + k};
+}
+
+/* |x| rounded to a double's precision: the top 64 bits, truncated (a
+ * relative error below 2^-63), then rounded to 53 bits. x != 0. */
+static fe fe_of_big(const big *x) {
+    int n = x->n < 0 ? -x->n : x->n;
+    mp_limb_t hi = x->d[n - 1], lo = n > 1 ? x->d[n - 2] : 0;
+    int z = __builtin_clzll(hi);
+    uint64_t top = z ? (hi << z) | (lo >> (GMP_NUMB_BITS - z)) : hi;
+    return fe_norm((double)top, (long)(n - 1) * GMP_NUMB_BITS - z);
+}
+
+static fe fe_mul(fe a, fe b) { return fe_norm(a.m * b.m, a.e + b.e); }
+static fe fe_div(fe a, fe b) { return fe_norm(a.m / b.m, a.e - b.e); }
+
+static fe fe_sqrt(fe a) {
+    if (a.e % 2) return fe_norm(sqrt(a.m * 2), (a.e - 1) / 2);
+    return fe_norm(sqrt(a.m), a.e / 2);
+}
+
+static fe fe_add(fe a, fe b) { /* both positive */
+    if (a.e < b.e) {
+        fe t = a;
+        a = b;
+        b = t;
+    }
+    long d = a.e - b.e; /* the smaller one past 2^-1100 of the sum: gone */
+    return fe_norm(a.m + (d > 1100 ? 0 : ldexp(b.m, (int)-d)), a.e);
+}
+
 /* ---- Breakpoint polynomial F --------------------------------------------- */
 
 /* Largest magnitude of four values (nan propagates as "not <= DBL_MAX"). */
@@ -448,32 +494,66 @@ static int bp_poly_small(const double *a, const double *b, const double *p) {
     return sign128(t2 - t1);
 }
 
+/* x^2 + y^2 of finite doubles, not both 0, as a wide-range number: the
+ * squares exact in range, two roundings. */
+static fe fe_sum_squares(double x, double y) {
+    fe fx = fe_norm(fabs(x), 0), fy = fe_norm(fabs(y), 0);
+    if (x == 0) return fe_mul(fy, fy);
+    if (y == 0) return fe_mul(fx, fx);
+    return fe_add(fe_mul(fx, fx), fe_mul(fy, fy));
+}
+
+/* F's sign from the rounded differences u = p - a, v = p - b when they
+ * span more than the rescaled filter's range (a difference below 2^-300
+ * of the largest: sites over hundreds of binary orders of magnitude):
+ * t1 = |u|^2 vy and t2 = |v|^2 uy in wide-range numbers, which neither
+ * overflow nor underflow. The signs of the differences are exact
+ * (rounding keeps a sign, and 0 only for equal coordinates), so t1 or t2
+ * being 0, or their signs differing, decides exactly; otherwise their
+ * magnitudes, each within 5 eps (a difference, a square, a sum, a
+ * product, a double's conversion being exact), must differ by more than
+ * 2^-46 of them. 0 when they do not (the caller goes to integers). */
+static int bp_poly_wide(double ux, double uy, double vx, double vy) {
+    int s1 = ux == 0 && uy == 0 ? 0 : (vy > 0) - (vy < 0);
+    int s2 = vx == 0 && vy == 0 ? 0 : (uy > 0) - (uy < 0);
+    if (s1 != s2 || s1 == 0) return s1 != 0 ? s1 : -s2;
+    fe m1 = fe_mul(fe_sum_squares(ux, uy), fe_norm(fabs(vy), 0));
+    fe m2 = fe_mul(fe_sum_squares(vx, vy), fe_norm(fabs(uy), 0));
+    long d = m1.e - m2.e;
+    if (d >= 2) return s1;
+    if (d <= -2) return -s1;
+    double r = ldexp(m1.m / m2.m, (int)d);
+    if (r > 1 + 0x1p-46) return s1;
+    if (r < 1 - 0x1p-46) return -s1;
+    return 0;
+}
+
 int vor__fortune_bp_poly_slow(const double *a, const double *b,
                               const double *p) {
     int sm = bp_poly_small(a, b, p);
     if (sm != -2) return sm;
-    double ux = p[0] - a[0], uy = p[1] - a[1];
-    double vx = p[0] - b[0], vy = p[1] - b[1];
+    const double ux = p[0] - a[0], uy = p[1] - a[1];
+    const double vx = p[0] - b[0], vy = p[1] - b[1];
     double m = max4(ux, uy, vx, vy);
-    if (m > 0 && m <= DBL_MAX) {
-        /* A power-of-two rescale is exact as long as nothing becomes
-         * subnormal, which the range test below makes sure of; F is
-         * homogeneous, so its sign is unchanged. */
-        int e;
-        (void)frexp(m, &e);
-        ux = ldexp(ux, -e);
-        uy = ldexp(uy, -e);
-        vx = ldexp(vx, -e);
-        vy = ldexp(vy, -e);
-        if (min4_ok(ux, uy, vx, vy)) {
-            double t1 = (ux * ux + uy * uy) * vy;
-            double t2 = (vx * vx + vy * vy) * uy;
-            double f = t1 - t2, bound = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
-            if (f > bound) return 1;
-            if (-f > bound) return -1;
-        }
+    if (!(m > 0 && m <= DBL_MAX)) return bp_poly_exact(a, b, p);
+    /* A power-of-two rescale is exact as long as nothing becomes
+     * subnormal, which the range test below makes sure of; F is
+     * homogeneous, so its sign is unchanged. */
+    int e;
+    (void)frexp(m, &e);
+    double sux = ldexp(ux, -e), suy = ldexp(uy, -e);
+    double svx = ldexp(vx, -e), svy = ldexp(vy, -e);
+    int c = 0;
+    if (min4_ok(sux, suy, svx, svy)) {
+        double t1 = (sux * sux + suy * suy) * svy;
+        double t2 = (svx * svx + svy * svy) * suy;
+        double f = t1 - t2, bound = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
+        if (f > bound) return 1;
+        if (-f > bound) return -1;
+    } else {
+        c = bp_poly_wide(ux, uy, vx, vy);
     }
-    return bp_poly_exact(a, b, p);
+    return c != 0 ? c : bp_poly_exact(a, b, p);
 }
 
 /* ---- Top of a circle --------------------------------------------------------
@@ -1204,50 +1284,6 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
     /* same y: compare x with the centre's */
     big_mul(&t1, &twod, sx);
     return big_cmp(&t1, &ci.nx) < 0;
-}
-
-/* A positive number m 2^e kept as a double m in [0.5, 1) and an int e:
- * the integers of a circle can have thousands of bits, past the range of
- * a double, and here they are only multiplied, divided, square-rooted and
- * added to each other when positive, each time with a relative error of
- * at most one rounding. */
-typedef struct fe {
-    double m;
-    long e;
-} fe;
-
-static fe fe_norm(double m, long e) {
-    int k;
-    double f = frexp(m, &k);
-    return (fe){f, e + k};
-}
-
-/* |x| rounded to a double's precision: the top 64 bits, truncated (a
- * relative error below 2^-63), then rounded to 53 bits. x != 0. */
-static fe fe_of_big(const big *x) {
-    int n = x->n < 0 ? -x->n : x->n;
-    mp_limb_t hi = x->d[n - 1], lo = n > 1 ? x->d[n - 2] : 0;
-    int z = __builtin_clzll(hi);
-    uint64_t top = z ? (hi << z) | (lo >> (GMP_NUMB_BITS - z)) : hi;
-    return fe_norm((double)top, (long)(n - 1) * GMP_NUMB_BITS - z);
-}
-
-static fe fe_mul(fe a, fe b) { return fe_norm(a.m * b.m, a.e + b.e); }
-static fe fe_div(fe a, fe b) { return fe_norm(a.m / b.m, a.e - b.e); }
-
-static fe fe_sqrt(fe a) {
-    if (a.e % 2) return fe_norm(sqrt(a.m * 2), (a.e - 1) / 2);
-    return fe_norm(sqrt(a.m), a.e / 2);
-}
-
-static fe fe_add(fe a, fe b) { /* both positive */
-    if (a.e < b.e) {
-        fe t = a;
-        a = b;
-        b = t;
-    }
-    long d = a.e - b.e; /* the smaller one past 2^-1100 of the sum: gone */
-    return fe_norm(a.m + (d > 1100 ? 0 : ldexp(b.m, (int)-d)), a.e);
 }
 
 /* An interval around the y of the top of the circle through a, b, c

@@ -310,6 +310,22 @@ static void test_bp_poly(void **state) {
     }
     print_message("bp_poly: %d exact zeros on lattices\n", zeros);
     assert_true(zeros > 1000);
+    /* nearly mirror-image sites far below p, over hundreds of binary
+     * orders (the wide-range filter's near ties, and its exact zeros) */
+    for (int it = 0; it < 4000; it++) {
+        int es = (int)(vt_next(&r) % 1200) - 600;
+        int et = (int)(vt_next(&r) % 1200) - 600;
+        int ep = (int)(vt_next(&r) % 1200) - 600;
+        double sx = ldexp(1 + vt_unit(&r), es), ty = ldexp(vt_unit(&r), et);
+        double nudge = (double)(long)(vt_next(&r) % 5) - 2;
+        double a[2] = {sx, ty};
+        double b[2] = {-sx * (1 + nudge * 0x1p-52), it % 3 ? ty : -ty};
+        double p[2] = {it % 2 ? 0 : ldexp(1, es - 60), ldexp(1, ep)};
+        if (it % 5 == 0) p[0] = ldexp(vt_unit(&r) - 0.5, es);
+        int want = q_bp_poly(a, b, p);
+        assert_int_equal(vor__fortune_bp_poly(a, b, p, 0), want);
+        assert_int_equal(vor__fortune_bp_poly_slow(a, b, p), want);
+    }
 }
 
 /* The breakpoint predicate's meaning: a site exactly on a circle through
