@@ -353,6 +353,14 @@ static int stop_now(void *ctx) {
     return 1;
 }
 
+/* The stop was asked once and the answer is a 503 that names it. */
+static void check_stopped(const api_problem *p) {
+    assert_int_equal(stop_asked, 1);
+    assert_int_equal(api_code_http(p->code), 503);
+    if (strstr(p->detail, "stopped by the caller") == NULL)
+        fail_msg("detail: %s", p->detail);
+}
+
 static void test_stopped(void **state) {
     (void)state;
     double *xy = vt_uniform(5000, 3);
@@ -366,10 +374,7 @@ static void test_stopped(void **state) {
         api_problem p;
         api_result_init(&res);
         assert_int_equal(api_compute(&r, &res, &p), API_UNAVAILABLE);
-        assert_int_equal(stop_asked, 1);
-        assert_int_equal(api_code_http(p.code), 503);
-        if (strstr(p.detail, "stopped by the caller") == NULL)
-            fail_msg("detail: %s", p.detail);
+        check_stopped(&p);
         assert_null(res.diagram);
         api_result_clear(&res);
         api_request_clear(&r);
@@ -381,9 +386,7 @@ static void test_stopped(void **state) {
     api_problem p;
     api_compare_init(&c);
     assert_int_equal(api_compare_run(&r, &c, &p), API_UNAVAILABLE);
-    assert_int_equal(stop_asked, 1); /* the first run stops; no other runs */
-    if (strstr(p.detail, "stopped by the caller") == NULL)
-        fail_msg("detail: %s", p.detail);
+    check_stopped(&p); /* the first run stops; no other runs */
     assert_null(c.sites);
     api_compare_clear(&c);
     api_request_clear(&r);
