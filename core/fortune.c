@@ -1406,14 +1406,17 @@ static void rec_free(sweep *w, uint32_t r) {
  * 10^5 sites: 3 M exact comparisons, 17 s). There the interval computed
  * from the circle's exact integers (vor__fortune_circle_top_tight, about
  * 2^-44 wide) takes the bounds' place, as a midpoint and a half-width
- * (and the midpoint's rounding). */
+ * that covers the midpoint's rounding. */
 static int tight_top(const double *a, const double *b, const double *c,
                      double *out) {
     double lo, hi;
     if (!vor__fortune_circle_top_tight(a, b, c, &lo, &hi)) return 0;
     out[0] = lo + (hi - lo) / 2;
     out[1] = 0;
-    out[2] = (hi - lo) / 2 + fabs(out[0]) * 0x1p-52;
+    /* hi - out[0] and out[0] - lo are at most (hi - lo) (1/2 + u/2) +
+     * |out[0]| u (1 + u), u = 2^-53; the factors below cover that and the
+     * three roundings of this line */
+    out[2] = (hi - lo) * (0.5 + 0x1p-50) + fabs(out[0]) * 0x1p-51;
     return isfinite(out[2]);
 }
 
@@ -1923,9 +1926,11 @@ static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
     if (!event_dd(w, r, &d)) return;
     double t = d[0] + d[1];
     /* outside the safe range d is tight_top's midpoint and half-width,
-     * d[1] = 0: t is d[0], and the margin need cover only t -+ m */
+     * d[1] = 0: t is d[0], and m need cover only its own two roundings
+     * and those of t -+ m (fl(t - m) <= t - d[2] needs m (1 - u) >=
+     * d[2] + u |t| after m's rounding, u = 2^-53) */
     double m = w->safe ? 2 * (d[2] + fabs(t) * 0x1p-51 + 0x1p-1000)
-                       : d[2] + fabs(t) * 0x1p-52;
+                       : d[2] * (1 + 0x1p-50) + fabs(t) * 0x1p-52;
     double l = t - m, h = t + m;
     if (l > *lo) *lo = l;
     if (h < *hi) *hi = h;

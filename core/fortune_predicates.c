@@ -1301,8 +1301,9 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
  * only positive numbers meet: D, Nx, Ny exact, each rounded once to a
  * double's precision (2^-52), then at most seven operations of one
  * rounding each, so g's relative error is under 16 eps = 2^-49; the
- * bound below takes 2^-46 of it, then one rounding of the top and an
- * absolute 2^-1060 for an underflow of g 2^E. */
+ * bound below takes 2^-46 of it, then 4 eps of the top for its rounding
+ * and that of t -+ err (with the bound's own), and an absolute 2^-1060
+ * for an underflow of g 2^E. */
 int vor__fortune_circle_top_tight(const double *a, const double *b,
                                   const double *c, double *lo, double *hi) {
     enum { L = 4 * IN_LIMBS + 8 };
@@ -1361,7 +1362,7 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
     double gd = g.m == 0 ? 0 : ge > 1100 ? INFINITY
                              : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
     double t = a[1] + gd;
-    double err = 0x1p-46 * gd + 0x1p-52 * fabs(t) + 0x1p-1060;
+    double err = 0x1p-46 * gd + 0x1p-51 * fabs(t) + 0x1p-1060;
     *lo = t - err;
     *hi = t + err;
     return isfinite(*lo) && isfinite(*hi);
