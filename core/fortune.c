@@ -772,6 +772,37 @@ static size_t distinct_in_sample(const vor_sites *s, int a) {
     return k;
 }
 
+/* The scale for a set whose coordinates are not all in the filters' range
+ * once the largest is in [1, 2): one that brings the bulk there instead
+ * (nine in ten of a sample of TURN_SAMPLE coordinates below 2), so that
+ * the predicates among the bulk's sites pass their per-call range check
+ * (vor__fortune_in_range4) and take the fast filters; the others rescale
+ * per call as before. Uniform sites and one stray point at 10^300 (their
+ * coordinates scaled by the outlier's 2^-996, every call rescaled): 10^5
+ * sites 201 -> 95 ms (CGAL 66). Exactness needs only that no coordinate
+ * overflow or become subnormal (emax: the largest's exponent, mn the
+ * smallest nonzero magnitude); else the scale stays fallback. */
+static double bulk_scale(const vor_sites *s, frame f, int emax, double mn,
+                         double fallback) {
+    double v[TURN_SAMPLE];
+    size_t m = s->n < TURN_SAMPLE / 2 ? s->n : TURN_SAMPLE / 2, k = 0;
+    for (size_t i = 0; i < m; i++) {
+        const double *p = s->xy + 2 * (size_t)((uint64_t)i * s->n / m);
+        v[k++] = fabs(p[0] - f.off[0]);
+        v[k++] = fabs(p[1] - f.off[1]);
+    }
+    qsort(v, k, sizeof *v, cmp_double);
+    double q = v[k - 1 - k / 10];
+    if (q == 0) return fallback;
+    int eq;
+    (void)frexp(q, &eq);
+    int shift = 1 - eq; /* q 2^shift in [1, 2) */
+    if (shift > 1023 || shift < -1022 || emax + shift > 1023 ||
+        ldexp(mn, shift) < DBL_MIN)
+        return fallback;
+    return ldexp(1.0, shift);
+}
+
 /* Chooses the frame: the direction of the sweep, the offsets
  * (axis_offset), then the power-of-two scale that brings the largest
  * coordinate into [1, 2) if that is exact (no scaled value becomes
@@ -833,6 +864,7 @@ static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
     if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) f.scale = 1.0;
     double smx = mx * f.scale, smn = mn * f.scale;
     *safe = smx < 2.0 && smn >= 0x1p-250;
+    if (!*safe) f.scale = bulk_scale(s, f, e, mn, f.scale);
     return f;
 }
 

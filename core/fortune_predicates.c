@@ -639,7 +639,7 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     double bx = b[0] - a[0], by = b[1] - a[1];
     double cx = c[0] - a[0], cy = c[1] - a[1];
     int e = 0;
-    if (!safe) {
+    if (!safe && !vor__fortune_in_range4(bx, by, cx, cy)) {
         double m = max4(bx, by, cx, cy);
         if (!(m > 0 && m <= DBL_MAX)) goto undecided;
         (void)frexp(m, &e);
@@ -696,7 +696,7 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     double err = eux + 2 * euy + eg + 0x1p-700;
     if (err > 0x1p-40 * g) /* wide: the division is worth it */
         err = x_share(ux, uy, eux, euy) + 2 * euy + eg + 0x1p-700;
-    if (!safe) {
+    if (e != 0) {
         g = ldexp(g, e);
         err = ldexp(err, e) + 0x1p-1060;
     }

@@ -30,8 +30,10 @@
  * overflow, which the callers guarantee by a range condition ("safe": every
  * nonzero difference in [2^-302, 4], true after fortune.c has rescaled the
  * input by a power of two so that every coordinate is 0 or in
- * [2^-250, 2)); otherwise the out-of-line versions rescale per call and, if
- * even that cannot help, fall back to exact integer arithmetic.
+ * [2^-250, 2)); otherwise the condition is checked per call
+ * (vor__fortune_in_range4), and where it fails the out-of-line versions
+ * rescale per call and, if even that cannot help, fall back to exact
+ * integer arithmetic.
  *
  *   F: each of t1 = (ux^2 + uy^2) vy and t2 = (vx^2 + vy^2) uy (ux = px - ax,
  *   ...) carries 6 roundings (a difference and a square: 3, the sum: 1, a
@@ -62,16 +64,32 @@
 int vor__fortune_bp_poly_slow(const double *a, const double *b,
                               const double *p);
 
+/* 1 if each of four differences is 0 or within [2^-302, 4] in magnitude:
+ * the range condition, checked for one call (a set with a far outlier is
+ * not in range as a whole, while nearly every call among its other sites
+ * is). */
+static inline int vor__fortune_in_range4(double a, double b, double c,
+                                         double d) {
+    const double lo = 0x1p-302;
+    a = fabs(a);
+    b = fabs(b);
+    c = fabs(c);
+    d = fabs(d);
+    return (a == 0 || (a >= lo && a <= 4)) && (b == 0 || (b >= lo && b <= 4)) &&
+           (c == 0 || (c >= lo && c <= 4)) && (d == 0 || (d >= lo && d <= 4));
+}
+
 /* Sign of F (see above), exact. safe: the caller guarantees the range
- * condition, which lets the inline filter decide. Adds 1 to *slow when the
- * inline filter cannot (the call goes to vor__fortune_bp_poly_slow: a
- * rescaled filter, then exact integers). */
+ * condition, which lets the inline filter decide (else the condition is
+ * checked for this call). Adds 1 to *slow when the inline filter cannot
+ * (the call goes to vor__fortune_bp_poly_slow: a rescaled filter, then
+ * exact integers). */
 static inline int vor__fortune_bp_poly_n(const double *a, const double *b,
                                          const double *p, int safe,
                                          uint64_t *slow) {
-    if (safe) {
-        double ux = p[0] - a[0], uy = p[1] - a[1];
-        double vx = p[0] - b[0], vy = p[1] - b[1];
+    double ux = p[0] - a[0], uy = p[1] - a[1];
+    double vx = p[0] - b[0], vy = p[1] - b[1];
+    if (safe || vor__fortune_in_range4(ux, uy, vx, vy)) {
         double t1 = (ux * ux + uy * uy) * vy;
         double t2 = (vx * vx + vy * vy) * uy;
         double f = t1 - t2, bound = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
