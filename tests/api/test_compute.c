@@ -361,15 +361,20 @@ static void check_stopped(const api_problem *p) {
         fail_msg("detail: %s", p->detail);
 }
 
+/* A request of the 5000 points at xy for algorithm a that says stop. */
+static api_request stopping_request(const double *xy, vor_algorithm a) {
+    api_request r = request_for(xy, 5000, a, API_PART_DEFAULT, NULL);
+    r.stop = stop_now;
+    stop_asked = 0;
+    return r;
+}
+
 static void test_stopped(void **state) {
     (void)state;
     double *xy = vt_uniform(5000, 3);
     for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
         if (!available[a]) continue;
-        api_request r = request_for(xy, 5000, (vor_algorithm)a,
-                                    API_PART_DEFAULT, NULL);
-        r.stop = stop_now;
-        stop_asked = 0;
+        api_request r = stopping_request(xy, (vor_algorithm)a);
         api_result res;
         api_problem p;
         api_result_init(&res);
@@ -379,9 +384,7 @@ static void test_stopped(void **state) {
         api_result_clear(&res);
         api_request_clear(&r);
     }
-    api_request r = request_for(xy, 5000, VOR_FORTUNE, API_PART_DEFAULT, NULL);
-    r.stop = stop_now;
-    stop_asked = 0;
+    api_request r = stopping_request(xy, VOR_FORTUNE);
     api_compare c;
     api_problem p;
     api_compare_init(&c);
