@@ -89,7 +89,8 @@ void srv_pool_cancel_all(srv_pool *p);
  * joins them. Returns 0 when everything was joined and freed; -1 when a
  * run() was still going after wait_s + the time given to the sentinel: the
  * pool is then left alive (threads detached, memory not freed) so that the
- * process can exit without waiting for an uninterruptible computation.
+ * process can exit without waiting for a job that does not stop (the
+ * compute jobs stop when abandoned, within milliseconds).
  * NULL is a no-op returning 0. */
 int srv_pool_free(srv_pool *p, double wait_s);
 

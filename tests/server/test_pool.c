@@ -272,8 +272,10 @@ static void test_shutdown_does_not_wait_forever(void **state) {
     init_job(&stuck, &gate, 0);
     assert_int_equal(srv_pool_submit(p, &stuck.base), SRV_POOL_OK);
     wait_for(&stuck, &stuck.started, 1);
-    /* The computation cannot be interrupted: free gives up (-1), leaving
-     * the pool alive; submissions are refused from then on. */
+    /* A job that does not look at srv_job_abandoned cannot be stopped
+     * (the compute jobs do; this one waits on its gate): free gives up
+     * (-1), leaving the pool alive; submissions are refused from then
+     * on. */
     assert_int_equal(srv_pool_free(p, 0.05), -1);
     tjob other;
     init_job(&other, NULL, 0);
