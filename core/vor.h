@@ -371,10 +371,12 @@ typedef struct vor_options {
     void *trace_ctx;    /* its first argument */
     /* When not NULL, asked now and then whether the caller still wants the
      * answer (non-zero: stop). The algorithm asks before its first site and
-     * then every VOR_STOP_EVERY sites or events, so that it gives up within
-     * a few milliseconds of the answer being given up on, whatever the
-     * input: it then returns VOR_ESTOPPED, having freed everything. Called
-     * on the computing thread; may read a flag another thread sets. */
+     * then every VOR_STOP_EVERY sites or events, so that however slow the
+     * input makes its sites and events, it gives up soon after the answer
+     * is given up on (the phases before and after them, sorting and the
+     * conversion to the diagram, are O(n log n) and not interrupted); it
+     * then returns VOR_ESTOPPED, having freed everything. Called on the
+     * computing thread; may read a flag another thread sets. */
     int (*stop)(void *ctx);
     void *stop_ctx; /* its first argument */
 } vor_options;

@@ -90,7 +90,7 @@ void srv_pool_cancel_all(srv_pool *p);
  * run() was still going after wait_s + the time given to the sentinel: the
  * pool is then left alive (threads detached, memory not freed) so that the
  * process can exit without waiting for a job that does not stop (the
- * compute jobs stop when abandoned, within milliseconds).
+ * compute jobs stop soon after they are abandoned).
  * NULL is a no-op returning 0. */
 int srv_pool_free(srv_pool *p, double wait_s);
 

@@ -139,7 +139,7 @@ static int job_stopped(srv_job *base) {
 
 /* The core's question (api_request.stop): nobody waits for the answer any
  * more (deadline, shutdown), so the worker stops computing it and is free
- * for the next request within milliseconds. */
+ * for the next request. */
 static int job_stop(void *ctx) {
     srv_compute_job *j = ctx;
     if (!srv_job_abandoned(&j->base)) return 0;
