@@ -1439,17 +1439,22 @@ static void rec_free(sweep *w, uint32_t r) {
  * from the circle's exact integers (vor__fortune_circle_top_tight, about
  * 2^-44 wide) takes the bounds' place, as a midpoint and a half-width
  * that covers the midpoint's rounding. */
-static int tight_top(const double *a, const double *b, const double *c,
-                     double *out) {
+#define BEYOND (-2.0) /* out[2] of tight_top: a top past the doubles */
+static void tight_top(const double *a, const double *b, const double *c,
+                      double *out) {
     double lo, hi;
-    if (!vor__fortune_circle_top_tight(a, b, c, &lo, &hi)) return 0;
+    int k = vor__fortune_circle_top_tight(a, b, c, &lo, &hi, out);
+    if (k == 2) { /* out[0..1] hold its key */
+        out[2] = BEYOND;
+        return;
+    }
     out[0] = lo + (hi - lo) / 2;
     out[1] = 0;
     /* hi - out[0] and out[0] - lo are at most (hi - lo) (1/2 + u/2) +
      * |out[0]| u (1 + u), u = 2^-53; the factors below cover that and the
      * three roundings of this line */
     out[2] = (hi - lo) * (0.5 + 0x1p-50) + fabs(out[0]) * 0x1p-51;
-    return isfinite(out[2]);
+    if (k == 0 || !isfinite(out[2])) out[2] = -1;
 }
 
 /* What the tie-breaking stages know about record r's event, computed on
@@ -1468,9 +1473,9 @@ static int event_dd(sweep *w, uint32_t r, const double **v) {
         w->known[r] |= KNOWN_DD;
         const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
                      *d = site_xy(w, e->s[2]);
-        if (!(w->safe ? vor__fortune_circle_top_dd(a, b, d, &c[0], &c[1],
-                                                    &c[2])
-                      : tight_top(a, b, d, c)))
+        if (!w->safe)
+            tight_top(a, b, d, c); /* c[2] < 0 if it has no bounds */
+        else if (!vor__fortune_circle_top_dd(a, b, d, &c[0], &c[1], &c[2]))
             c[2] = -1;
     }
     *v = c;
@@ -1536,9 +1541,13 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     if (!w->lattice) {
         box = box_cmp(w, r1, r2, &c) ? 1 : -1;
         if (box > 0) goto decided;
-        if (event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+        if (w->safe ? event_dd(w, r1, &d1) && event_dd(w, r2, &d2)
+                    : event_dd(w, r1, &d1) + event_dd(w, r2, &d2) == 2) {
             c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
             if (c != 0) return c < 0;
+        } else if (!w->safe && d1[2] == BEYOND && d2[2] == BEYOND) {
+            /* both tops past the doubles: their keys */
+            if ((c = vor__fortune_key_cmp(d1, d2)) != 0) return c < 0;
         }
     }
     if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) && e1[1] == e2[1] &&
@@ -1955,7 +1964,10 @@ static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
                        *hi - *lo <= (fabs(*lo) + fabs(*hi)) * 0x1p-30))
         return;
     const double *d;
-    if (!event_dd(w, r, &d)) return;
+    if (!event_dd(w, r, &d)) {
+        if (d[2] == BEYOND) *lo = DBL_MAX; /* and *hi stays */
+        return;
+    }
     double t = d[0] + d[1];
     /* outside the safe range d is tight_top's midpoint and half-width,
      * d[1] = 0: t is d[0], and m need cover only its own two roundings

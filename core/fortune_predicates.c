@@ -1303,9 +1303,12 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
  * rounding each, so g's relative error is under 16 eps = 2^-49; the
  * bound below takes 2^-46 of it, then 4 eps of the top for its rounding
  * and that of t -+ err (with the bound's own), and an absolute 2^-1060
- * for an underflow of g 2^E. */
+ * for an underflow of g 2^E. Where g 2^E passes 2^1023 the top is summed
+ * in units of 2^E (below); one past the doubles gets [DBL_MAX, inf] and
+ * its key, m 2^e. */
 int vor__fortune_circle_top_tight(const double *a, const double *b,
-                                  const double *c, double *lo, double *hi) {
+                                  const double *c, double *lo, double *hi,
+                                  double key[2]) {
     enum { L = 4 * IN_LIMBS + 8 };
     const double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     mp_limb_t store[4][IN_LIMBS + 1];
@@ -1359,6 +1362,31 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
         }
     }
     long ge = g.e + e;
+    if (g.m != 0 && ge >= 1024) {
+        /* G = g 2^E >= 2^1023, and |A.y| < 2^1024: in units of U = 2^E
+         * the top is s = g + A.y / U, |A.y| / U < 1, within 2^-47 (g's
+         * 2^-49, s's rounding 2^-52). Past DBL_MAX by more than that (s
+         * then at least 1/4, as G >= 4 |A.y| from E = 1026 on), the key
+         * m 2^e is within 2^-45 of it; else an interval, if a double. */
+        fe ay = fe_norm(fabs(a[1]), 0);
+        long apart = ge - ay.e;
+        double share =
+            a[1] == 0 || apart > 1100 ? 0 : ldexp(ay.m, (int)-apart);
+        double sum = a[1] < 0 ? g.m - share : g.m + share, eu = 0x1p-47;
+        if (sum - eu > ldexp(DBL_MAX, (int)-(ge > 2100 ? 2100 : ge))) {
+            fe top = fe_norm(sum, ge);
+            *lo = DBL_MAX;
+            *hi = INFINITY;
+            key[0] = top.m;
+            key[1] = (double)top.e;
+            return 2;
+        }
+        double t = ldexp(sum, (int)ge), err = ldexp(eu, (int)ge);
+        err += 0x1p-51 * fabs(t) + 0x1p-1060;
+        *lo = t - err;
+        *hi = t + err;
+        return isfinite(*lo) && isfinite(*hi);
+    }
     double gd = g.m == 0 ? 0 : ge > 1100 ? INFINITY
                              : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
     double t = a[1] + gd;

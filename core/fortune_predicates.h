@@ -183,10 +183,28 @@ static inline int vor__fortune_dd_cmp(double hi1, double lo1, double err1,
 
 /* An interval of relative width about 2^-44 around the y of the top of
  * the circle through a, b, c (orient2d > 0), for any finite input, from
- * the circle's exact integers (a few microseconds): 1 with [*lo, *hi],
- * or 0 if the top lies beyond the doubles. */
+ * the circle's exact integers (a few microseconds): 1 with [*lo, *hi];
+ * 2 when the top lies past the doubles, with [*lo, *hi] = [DBL_MAX, inf]
+ * and the top as key[0] 2^key[1] (key[0] in [0.5, 1), key[1] an integer)
+ * within 2^-45 of itself; 0 if nothing is known (a top within 2^-47 of
+ * DBL_MAX). */
 int vor__fortune_circle_top_tight(const double *a, const double *b,
-                                  const double *c, double *lo, double *hi);
+                                  const double *c, double *lo, double *hi,
+                                  double key[2]);
+
+/* Compares two tops past the doubles by their keys (within 2^-45 each):
+ * -1 if the first is provably lower, +1 if higher, 0 if they cannot
+ * tell. */
+static inline int vor__fortune_key_cmp(const double k1[2],
+                                       const double k2[2]) {
+    double d = k1[1] - k2[1];
+    if (d >= 2) return 1;
+    if (d <= -2) return -1;
+    double r = ldexp(k1[0] / k2[0], (int)d);
+    if (r > 1 + 0x1p-43) return 1;
+    if (r < 1 - 0x1p-43) return -1;
+    return 0;
+}
 
 /* Exact ties cheaply. 1 if the centre and squared radius of the circle
  * through a, b, c (orient2d > 0) are exactly representable and were

@@ -126,6 +126,21 @@ static int q_top_vs(const double *a, const double *b, const double *c,
     return r;
 }
 
+/* The same against m 2^e (a value past the doubles, e an integer). */
+static int q_top_vs_2exp(double t[3][2], double m, double e) {
+    mpq_t X, Y, R2, q, z;
+    mpq_inits(X, Y, R2, q, z, NULL);
+    q_circle(t[0], t[1], t[2], X, Y, R2);
+    mpq_set_d(q, m);
+    if (e >= 0)
+        mpq_mul_2exp(q, q, (mp_bitcnt_t)e);
+    else
+        mpq_div_2exp(q, q, (mp_bitcnt_t)-e);
+    int r = q_cmp_sum_sqrt(Y, R2, q, z);
+    mpq_clears(X, Y, R2, q, z, NULL);
+    return r;
+}
+
 /* 1 if two circle events have equal tops; *same (if not NULL) is set
  * when their centres are the same point too. */
 static int q_equal_tops(const double *const e1[3], const double *const e2[3],
@@ -391,7 +406,7 @@ static void test_circle_top_bounds(void **state) {
     uint64_t seed = 202;
     print_message("circle_top: seed %llu\n", (unsigned long long)seed);
     vt_rng r = {seed};
-    int finite = 0, dd_ok = 0, n_tight = 0, triples = 0;
+    int finite = 0, dd_ok = 0, n_tight = 0, n_beyond = 0, triples = 0;
     for (int it = 0; it < 40000; it++) {
         double t[3][2];
         if (!random_triple(&r, it % KINDS, t)) continue;
@@ -399,8 +414,17 @@ static void test_circle_top_bounds(void **state) {
         /* the interval from the exact circle: it holds the top and is
          * 2^-44 wide (of the top's offset from t[0]) wherever the top
          * lies within the doubles */
-        double tlo, thi;
-        if (vor__fortune_circle_top_tight(t[0], t[1], t[2], &tlo, &thi)) {
+        double tlo, thi, key[2];
+        int k = vor__fortune_circle_top_tight(t[0], t[1], t[2], &tlo, &thi,
+                                              key);
+        if (k == 2) {
+            /* past the doubles: a key within 2^-45 of the top */
+            n_tight++;
+            n_beyond++;
+            assert_true(q_top_vs(t[0], t[1], t[2], DBL_MAX) > 0);
+            assert_true(q_top_vs_2exp(t, key[0] * (1 - 0x1p-44), key[1]) >= 0);
+            assert_true(q_top_vs_2exp(t, key[0] * (1 + 0x1p-44), key[1]) <= 0);
+        } else if (k == 1) {
             n_tight++;
             assert_true(q_top_vs(t[0], t[1], t[2], tlo) >= 0);
             assert_true(q_top_vs(t[0], t[1], t[2], thi) <= 0);
@@ -440,8 +464,9 @@ static void test_circle_top_bounds(void **state) {
      * apart in a nearly collinear triple) */
     assert_true(finite > 20000);
     assert_true(dd_ok > 10000);
-    print_message("circle_top: %d of %d tight intervals\n", n_tight,
-                  triples);
+    print_message("circle_top: %d of %d tight intervals, %d of them keys "
+                  "past the doubles\n", n_tight, triples, n_beyond);
+    assert_true(n_beyond > 100);
     assert_true(n_tight > triples - triples / 16);
 
     /* consecutive sites of a circle, rounded: nearly collinear triples,
