@@ -1286,9 +1286,63 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
     return big_cmp(&t1, &ci.nx) < 0;
 }
 
+/* The tight interval when A.y < 0 and the offset g 2^E nearly cancel it
+ * (a top well below |A.y|: sites of both signs over hundreds of binary
+ * orders, whose circles through a site far below 0 top out near 0),
+ * where an error relative to |A.y| would be wide against the top itself.
+ * In units of 2^E, A.y is an integer and top 2D = W + sqrt(R) with
+ * W = 2D A.y + Ny, R = Nx^2 + Ny^2, exact; for W < 0 the sum is
+ * (R - W^2) / (sqrt(R) + |W|), R - W^2 exact too, so only positive
+ * numbers meet again and the top's relative error stays under 2^-49
+ * (five conversions and six operations); the bound takes 2^-46. Degree
+ * 6: 254 limbs hold every value. 1 with the interval, 0 if the top is
+ * past the doubles. */
+static int top_cancelled(const double *a, int e, const big *d, const big *nx,
+                         const big *ny, double *lo, double *hi) {
+    enum { L = 7 * IN_LIMBS + 16 };
+    int64_t m;
+    int ex;
+    split_double(a[1], &m, &ex);
+    BIG_LOCAL(ay, IN_LIMBS + 2);
+    big_set_shifted(&ay, m, ex - e);
+    BIG_LOCAL(twod, L);
+    BIG_LOCAL(t1, L);
+    BIG_LOCAL(t2, L);
+    BIG_LOCAL(w, L);
+    BIG_LOCAL(r, L);
+    big_add(&twod, d, d);
+    big_mul(&t1, &twod, &ay);
+    big_add(&w, &t1, ny);
+    big_mul(&t1, nx, nx);
+    big_mul(&t2, ny, ny);
+    big_add(&r, &t1, &t2);
+    fe root = fe_sqrt(fe_of_big(&r)), num;
+    int sign = 1;
+    if (big_sign(&w) >= 0) {
+        num = big_sign(&w) ? fe_add(fe_of_big(&w), root) : root;
+    } else {
+        big_mul(&t1, &w, &w);
+        big_sub(&t2, &r, &t1);
+        sign = big_sign(&t2);
+        if (sign == 0) { /* the top is exactly 0 */
+            *lo = *hi = 0;
+            return 1;
+        }
+        num = fe_div(fe_of_big(&t2), fe_add(root, fe_of_big(&w)));
+    }
+    fe top = fe_div(num, fe_of_big(&twod));
+    long te = top.e + e;
+    if (te > 1100) return 0;
+    double t = sign * (te < -1200 ? 0 : ldexp(top.m, (int)te));
+    double err = 0x1p-46 * fabs(t) + 0x1p-1060;
+    *lo = t - err;
+    *hi = t + err;
+    return isfinite(*lo) && isfinite(*hi);
+}
+
 /* An interval around the y of the top of the circle through a, b, c
  * (orient2d > 0) from the circle's exact integers: 1 with [*lo, *hi]
- * at most about 2^-44 of the top's offset wide, 0 if the top lies
+ * at most about 2^-44 of the top wide, 0 if the top lies
  * beyond the doubles. For the sweep's events whose float interval is
  * wide or unbounded (vor__fortune_circle_top): sites over hundreds of
  * orders of magnitude, where neither the float filter nor the
@@ -1303,9 +1357,12 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
  * rounding each, so g's relative error is under 16 eps = 2^-49; the
  * bound below takes 2^-46 of it, then 4 eps of the top for its rounding
  * and that of t -+ err (with the bound's own), and an absolute 2^-1060
- * for an underflow of g 2^E. Where g 2^E passes 2^1023 the top is summed
- * in units of 2^E (below); one past the doubles gets [DBL_MAX, inf] and
- * its key, m 2^e. */
+ * for an underflow of g 2^E. Where A.y < 0 takes away over half of the
+ * offset, the top is computed from exact integers instead
+ * (top_cancelled), so that the interval is always within about 2^-44 of
+ * the top itself. Where g 2^E passes 2^1023 the top is summed in units of
+ * 2^E (below); one past the doubles gets [DBL_MAX, inf] and its key,
+ * m 2^e. */
 int vor__fortune_circle_top_tight(const double *a, const double *b,
                                   const double *c, double *lo, double *hi,
                                   double key[2]) {
@@ -1373,6 +1430,8 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
         double share =
             a[1] == 0 || apart > 1100 ? 0 : ldexp(ay.m, (int)-apart);
         double sum = a[1] < 0 ? g.m - share : g.m + share, eu = 0x1p-47;
+        if (sum < 0.5 * g.m) /* A.y < 0 takes away over half of G */
+            return top_cancelled(a, e, &d, &nx, &ny, lo, hi);
         if (sum - eu > ldexp(DBL_MAX, (int)-(ge > 2100 ? 2100 : ge))) {
             fe top = fe_norm(sum, ge);
             *lo = DBL_MAX;
@@ -1390,6 +1449,8 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
     double gd = g.m == 0 ? 0 : ge > 1100 ? INFINITY
                              : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
     double t = a[1] + gd;
+    if (a[1] < 0 && gd > 0 && !(fabs(t) >= -0.5 * a[1]))
+        return top_cancelled(a, e, &d, &nx, &ny, lo, hi);
     double err = 0x1p-46 * gd + 0x1p-51 * fabs(t) + 0x1p-1060;
     *lo = t - err;
     *hi = t + err;
