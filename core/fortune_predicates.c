@@ -1223,9 +1223,10 @@ typedef struct circle {
     big d, nx, ny, r;
 } circle;
 
-/* Fills c from the differences; t1, t2, b2, c2 are scratch. */
-static void circle_of(circle *c, const big *bx, const big *by, const big *cx,
-                      const big *cy, big *t1, big *t2, big *b2, big *c2) {
+/* Fills c's D and N from the differences; t1, t2, b2, c2 are scratch. */
+static void circle_centre(circle *c, const big *bx, const big *by,
+                          const big *cx, const big *cy, big *t1, big *t2,
+                          big *b2, big *c2) {
     big_mul(t1, bx, cy);
     big_mul(t2, by, cx);
     big_sub(&c->d, t1, t2);
@@ -1241,9 +1242,20 @@ static void circle_of(circle *c, const big *bx, const big *by, const big *cx,
     big_mul(t1, bx, c2);
     big_mul(t2, cx, b2);
     big_sub(&c->ny, t1, t2);
+}
+
+/* c's R from its N; t1, t2 are scratch. */
+static void circle_r(circle *c, big *t1, big *t2) {
     big_mul(t1, &c->nx, &c->nx);
     big_mul(t2, &c->ny, &c->ny);
     big_add(&c->r, t1, t2);
+}
+
+/* Fills c from the differences; t1, t2, b2, c2 are scratch. */
+static void circle_of(circle *c, const big *bx, const big *by, const big *cx,
+                      const big *cy, big *t1, big *t2, big *b2, big *c2) {
+    circle_centre(c, bx, by, cx, cy, t1, t2, b2, c2);
+    circle_r(c, t1, t2);
 }
 
 /* Site against circle event. With s = S - A: the site is lower when
@@ -1295,10 +1307,11 @@ int vor__fortune_site_first_exact(const double *s, const double *a,
  * (R - W^2) / (sqrt(R) + |W|), R - W^2 exact too, so only positive
  * numbers meet again and the top's relative error stays under 2^-49
  * (five conversions and six operations); the bound takes 2^-46. Degree
- * 6: 254 limbs hold every value. 1 with the interval, 0 if the top is
- * past the doubles. */
-static int top_cancelled(const double *a, int e, const big *d, const big *nx,
-                         const big *ny, double *lo, double *hi) {
+ * 6: 254 limbs hold every value. ci is the circle's D and N in those
+ * units (circle_centre); its R is filled here. 1 with the interval, 0 if
+ * the top is past the doubles. */
+static int top_cancelled(const double *a, int e, circle *ci, double *lo,
+                         double *hi) {
     enum { L = 7 * IN_LIMBS + 16 };
     int64_t m;
     int ex;
@@ -1309,20 +1322,18 @@ static int top_cancelled(const double *a, int e, const big *d, const big *nx,
     BIG_LOCAL(t1, L);
     BIG_LOCAL(t2, L);
     BIG_LOCAL(w, L);
-    BIG_LOCAL(r, L);
-    big_add(&twod, d, d);
+    const big *r = &ci->r;
+    circle_r(ci, &t1, &t2);
+    big_add(&twod, &ci->d, &ci->d);
     big_mul(&t1, &twod, &ay);
-    big_add(&w, &t1, ny);
-    big_mul(&t1, nx, nx);
-    big_mul(&t2, ny, ny);
-    big_add(&r, &t1, &t2);
-    fe root = fe_sqrt(fe_of_big(&r)), num;
+    big_add(&w, &t1, &ci->ny);
+    fe root = fe_sqrt(fe_of_big(r)), num;
     int sign = 1;
     if (big_sign(&w) >= 0) {
         num = big_sign(&w) ? fe_add(fe_of_big(&w), root) : root;
     } else {
         big_mul(&t1, &w, &w);
-        big_sub(&t2, &r, &t1);
+        big_sub(&t2, r, &t1);
         sign = big_sign(&t2);
         if (sign == 0) { /* the top is exactly 0 */
             *lo = *hi = 0;
@@ -1366,36 +1377,25 @@ static int top_cancelled(const double *a, int e, const big *d, const big *nx,
 int vor__fortune_circle_top_tight(const double *a, const double *b,
                                   const double *c, double *lo, double *hi,
                                   double key[2]) {
-    enum { L = 4 * IN_LIMBS + 8 };
+    enum { L = 4 * IN_LIMBS + 8, LR = 7 * IN_LIMBS + 16 }; /* R: degree 6 */
     const double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     mp_limb_t store[4][IN_LIMBS + 1];
     big dif[4];
     for (int i = 0; i < 4; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
     int e = big_diffs(dif, v, 3);
-    const big *bx = &dif[0], *by = &dif[1], *cx = &dif[2], *cy = &dif[3];
     BIG_LOCAL(t1, L);
     BIG_LOCAL(t2, L);
     BIG_LOCAL(b2, L);
     BIG_LOCAL(c2, L);
-    BIG_LOCAL(d, L);
-    BIG_LOCAL(nx, L);
-    BIG_LOCAL(ny, L);
-    big_mul(&t1, bx, cy);
-    big_mul(&t2, by, cx);
-    big_sub(&d, &t1, &t2);
+    BIG_LOCAL(cd, L);
+    BIG_LOCAL(cnx, L);
+    BIG_LOCAL(cny, L);
+    BIG_LOCAL(cr, LR); /* filled only where needed, by top_cancelled */
+    circle ci = {cd, cnx, cny, cr};
+    circle_centre(&ci, &dif[0], &dif[1], &dif[2], &dif[3], &t1, &t2, &b2,
+                  &c2);
+    const big d = ci.d, nx = ci.nx, ny = ci.ny;
     if (big_sign(&d) <= 0) return 0; /* not reached: orient2d > 0 */
-    big_mul(&t1, bx, bx);
-    big_mul(&t2, by, by);
-    big_add(&b2, &t1, &t2);
-    big_mul(&t1, cx, cx);
-    big_mul(&t2, cy, cy);
-    big_add(&c2, &t1, &t2);
-    big_mul(&t1, cy, &b2);
-    big_mul(&t2, by, &c2);
-    big_sub(&nx, &t1, &t2);
-    big_mul(&t1, bx, &c2);
-    big_mul(&t2, cx, &b2);
-    big_sub(&ny, &t1, &t2);
     fe twod = fe_of_big(&d);
     twod.e++;
     fe g;
@@ -1431,7 +1431,7 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
             a[1] == 0 || apart > 1100 ? 0 : ldexp(ay.m, (int)-apart);
         double sum = a[1] < 0 ? g.m - share : g.m + share, eu = 0x1p-47;
         if (sum < 0.5 * g.m) /* A.y < 0 takes away over half of G */
-            return top_cancelled(a, e, &d, &nx, &ny, lo, hi);
+            return top_cancelled(a, e, &ci, lo, hi);
         if (sum - eu > ldexp(DBL_MAX, (int)-(ge > 2100 ? 2100 : ge))) {
             fe top = fe_norm(sum, ge);
             *lo = DBL_MAX;
@@ -1450,7 +1450,7 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
                              : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
     double t = a[1] + gd;
     if (a[1] < 0 && gd > 0 && !(fabs(t) >= -0.5 * a[1]))
-        return top_cancelled(a, e, &d, &nx, &ny, lo, hi);
+        return top_cancelled(a, e, &ci, lo, hi);
     double err = 0x1p-46 * gd + 0x1p-51 * fabs(t) + 0x1p-1060;
     *lo = t - err;
     *hi = t + err;
