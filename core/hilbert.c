@@ -260,21 +260,34 @@ static unsigned key_state(unsigned state, uint32_t key) {
  * sites each, 2 hx L / n apart, with the rows 2 hy / L apart: y is
  * scaled by hx L^2 / (n hy) when that is below 1 (rows farther apart than
  * their sites), and x likewise for columns. Sites spread evenly in y
- * occupy about 0.63 m cells and keep the scale 1. */
+ * occupy about 0.63 m cells and keep the scale 1. A level must also be
+ * thin: its sites' y may differ by at most four times the spacing of
+ * sites along it. Two dense clusters far apart in x fill two levels of x,
+ * evenly, but each is a cloud as tall as it is wide; scaling x would
+ * flatten every cluster into a line of sites ordered by y alone, and
+ * point location would walk across the cluster for every site (two
+ * clusters of 5 10^4 sites 10^6 apart: 107 steps a site, not 2). */
 #define LEVEL_SAMPLE 65536
+
+/* The cell of axis value v on the grid of m cells over [lo, lo + 2 half]. */
+static inline size_t level_cell(double v, size_t m, double lo, double half) {
+    double cells = (double)m, c = (v * 0.5 - lo * 0.5) / half * cells;
+    return c >= cells ? m - 1 : c > 0 ? (size_t)c : 0;
+}
 
 /* The levels of axis a (0: x, 1: y) among m of the n sites, spread
  * evenly over the input (input order may follow rows); 0 if the axis is
- * not on levels (see above). count has room for m counters. */
+ * not on levels (see above). *thick receives the largest half-extent
+ * along axis a of the sampled sites of one level. work has room for m
+ * doubles: m counters, then the extents of at most m / 4 levels. */
 static size_t axis_levels(const double *xy, size_t n, size_t m, int a,
-                          double lo, double half, uint32_t *count) {
+                          double lo, double half, double *work,
+                          double *thick) {
+    uint32_t *count = (uint32_t *)work;
     memset(count, 0, m * sizeof *count);
-    double cells = (double)m;
-    for (size_t i = 0; i < m; i++) {
-        size_t at = (size_t)((uint64_t)i * n / m);
-        double c = (xy[2 * at + a] * 0.5 - lo * 0.5) / half * cells;
-        count[c >= cells ? m - 1 : c > 0 ? (size_t)c : 0]++;
-    }
+    for (size_t i = 0; i < m; i++)
+        count[level_cell(xy[2 * (size_t)((uint64_t)i * n / m) + a], m, lo,
+                         half)]++;
     /* runs of occupied cells: how many, the widest gap between the starts
      * of two, the most and the fewest sites in one */
     size_t levels = 0, start = 0, widest = 0, most = 0, fewest = m, sites = 0;
@@ -298,23 +311,50 @@ static size_t axis_levels(const double *xy, size_t n, size_t m, int a,
     if (levels < 2 || levels > m / 4 || widest * (levels - 1) > 4 * (m - 1) ||
         most * levels > 4 * m || 4 * fewest * levels < m)
         return 0;
+    /* each cell names its level; each level's extent among the sample */
+    double *ext = work + (m + 1) / 2;
+    for (size_t j = 0, l = 0; j < m; j++) {
+        if (!count[j])
+            continue;
+        if (j == 0 || !count[j - 1]) {
+            ext[2 * l] = INFINITY;
+            ext[2 * l + 1] = -INFINITY;
+            l++;
+        }
+        count[j] = (uint32_t)l; /* level l - 1, kept nonzero */
+    }
+    for (size_t i = 0; i < m; i++) {
+        double v = xy[2 * (size_t)((uint64_t)i * n / m) + a];
+        double *e = ext + 2 * (count[level_cell(v, m, lo, half)] - 1);
+        e[0] = v < e[0] ? v : e[0];
+        e[1] = v > e[1] ? v : e[1];
+    }
+    *thick = 0;
+    for (size_t l = 0; l < levels; l++) {
+        double t = ext[2 * l + 1] * 0.5 - ext[2 * l] * 0.5;
+        *thick = t > *thick ? t : *thick;
+    }
     return levels;
 }
 
 /* Scale of each axis for the keys (see above): scale[a] <= 1, 1 unless
- * the sites lie on rows (a = 1) or columns (a = 0). count has room for
- * min(n, LEVEL_SAMPLE) counters. */
+ * the sites lie on rows (a = 1) or columns (a = 0). work has room for
+ * min(n, LEVEL_SAMPLE) doubles. */
 static void axis_scales(const double *xy, size_t n, const double box[4],
-                        uint32_t *count, double scale[2]) {
+                        double *work, double scale[2]) {
     scale[0] = scale[1] = 1;
     double h[2] = {box[2] * 0.5 - box[0] * 0.5, box[3] * 0.5 - box[1] * 0.5};
     if (n < 4 * LEAF || !(h[0] > 0) || !(h[1] > 0))
         return;
     size_t m = n < LEVEL_SAMPLE ? n : LEVEL_SAMPLE;
     for (int a = 0; a < 2; a++) {
-        double levels = (double)axis_levels(xy, n, m, a, box[a], h[a], count);
-        double s = h[1 - a] / h[a] * levels * levels / (double)n;
-        if (levels > 0 && s < 1)
+        double thick;
+        double levels =
+            (double)axis_levels(xy, n, m, a, box[a], h[a], work, &thick);
+        /* half the spacing of sites along a level: h[1 - a] L / n */
+        double along = h[1 - a] * levels / (double)n;
+        double s = along / h[a] * levels;
+        if (levels > 0 && s < 1 && thick <= 4 * along)
             scale[a] = s > 0x1p-30 ? s : 0x1p-30;
     }
 }
@@ -447,7 +487,7 @@ vor_status vor__insertion_order_in(const double *xy, size_t n,
     vor__bbox(xy, n, box);
     const double xmin = box[0], ymin = box[1], xmax = box[2], ymax = box[3];
     double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
-    axis_scales(xy, n, box, (uint32_t *)tmp, scale);
+    axis_scales(xy, n, box, (double *)tmp, scale);
     double half = hx * scale[0] > hy * scale[1] ? hx * scale[0] : hy * scale[1];
     quantiser qx, qy;
     quantiser_init(&qx, xmin, half / scale[0]);

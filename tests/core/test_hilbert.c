@@ -383,13 +383,17 @@ static void window_extents(const double *xy, size_t n, const uint32_t *o,
  * its length). A box as long (1 x 100) of uniform sites has triangles
  * of every direction: its windows must stay about as wide as high. A
  * city and one stray point at (0, 0) sit on two levels of each axis,
- * unevenly filled: no rows there, the windows stay square. */
+ * unevenly filled: no rows there, the windows stay square. Two dense
+ * clusters 10^6 apart in x fill two levels of x evenly, but each is as
+ * tall as it is wide: not columns, and the windows in each stay square
+ * (flattened into columns, 64 consecutive sites spanned a whole
+ * cluster's width and a sliver of its height). */
 static void test_rows_and_columns(void **state) {
     (void)state;
     const size_t rows = 100, per = 400, n = rows * per;
     double *xy = malloc(2 * n * sizeof *xy);
     assert_non_null(xy);
-    for (int k = 0; k < 6; k++) {
+    for (int k = 0; k < 7; k++) {
         vt_rng r = {seed + (uint64_t)k};
         for (size_t i = 0; i < n; i++) {
             double along = vt_unit(&r), level = (double)(i % rows);
@@ -404,13 +408,18 @@ static void test_rows_and_columns(void **state) {
                 xy[2 * i] = i == n / 3 ? 0 : 8.45 + 0.1 * vt_unit(&r);
                 xy[2 * i + 1] = i == n / 3 ? 0 : 47.25 + 0.1 * vt_unit(&r);
             }
+            if (k == 6) { /* two clusters, 0.01 wide */
+                xy[2 * i] = 1e6 * (double)(i % 2) + 0.01 * vt_unit(&r);
+                xy[2 * i + 1] = 0.01 * vt_unit(&r);
+            }
         }
         uint32_t *o = order_of(xy, n);
         double ex, ey;
         window_extents(xy, n, o, &ex, &ey);
         static const char *names[] = {"rows",          "jittered rows",
                                       "columns",       "jittered columns",
-                                      "1 x 100 box",   "city and stray"};
+                                      "1 x 100 box",   "city and stray",
+                                      "two clusters"};
         printf("# %s: 64 consecutive sites span %.4g x %.4g (median)\n",
                names[k], ex, ey);
         double along = k == 2 || k == 3 ? ey : ex,
