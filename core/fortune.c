@@ -1464,7 +1464,13 @@ static void tight_top(const double *a, const double *b, const double *c,
  * outside the safe range, tight_top's),
  * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
  * exact). */
-enum { KNOWN_DD = 1, KNOWN_EXACT = 2, KNOWN_BOX = 4, IS_BOX = 8 };
+enum {
+    KNOWN_DD = 1,
+    KNOWN_EXACT = 2,
+    KNOWN_BOX = 4,
+    IS_BOX = 8,
+    KNOWN_OFFSET = 16
+};
 
 static int event_dd(sweep *w, uint32_t r, const double **v) {
     const evrec *e = &w->recs[r];
@@ -1480,6 +1486,25 @@ static int event_dd(sweep *w, uint32_t r, const double **v) {
     }
     *v = c;
     return c[2] >= 0;
+}
+
+/* Record r's bounds (event_dd) narrowed, where they can be, by the
+ * bounds relative to the triple's highest site (vor__fortune_circle_offset,
+ * exact integers: computed once, and only for events whose bounds failed
+ * to order them): 1 if they changed. */
+static int event_offset(sweep *w, uint32_t r) {
+    if (w->known[r] & KNOWN_OFFSET) return 0;
+    w->known[r] |= KNOWN_OFFSET;
+    const double *d;
+    int had = event_dd(w, r, &d);
+    const uint32_t *t = w->recs[r].s;
+    double v[3];
+    if (!vor__fortune_circle_offset(site_xy(w, t[0]), site_xy(w, t[1]),
+                                    site_xy(w, t[2]), &v[0], &v[1], &v[2]) ||
+        (had && v[2] >= d[2]))
+        return 0;
+    memcpy(w->cache + 6 * (size_t)r, v, sizeof v);
+    return 1;
 }
 
 static int event_exact(sweep *w, uint32_t r, const double **v) {
@@ -1544,6 +1569,9 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
         if (w->safe ? event_dd(w, r1, &d1) && event_dd(w, r2, &d2)
                     : event_dd(w, r1, &d1) + event_dd(w, r2, &d2) == 2) {
             c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
+            if (c == 0 && event_offset(w, r1) + event_offset(w, r2))
+                c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1],
+                                        d2[2]);
             if (c != 0) return c < 0;
         } else if (!w->safe && d1[2] == BEYOND && d2[2] == BEYOND) {
             /* both tops past the doubles: their keys */
@@ -2155,6 +2183,16 @@ static vor_status circle_event(sweep *w, uint32_t b) {
 
 /* ---- Driver -------------------------------------------------------------- */
 
+/* 1 if site p comes strictly before the circle event of triple t, by
+ * exact arithmetic (integers for small lattices). */
+static int site_before(sweep *w, const double *p, const uint32_t *t) {
+    const double *a = site_xy(w, t[0]), *b = site_xy(w, t[1]),
+                 *c = site_xy(w, t[2]);
+    w->cnt.event_exact++;
+    int f = vor__fortune_site_first_small(p, a, b, c);
+    return f < 0 ? vor__fortune_site_first_exact(p, a, b, c) : f;
+}
+
 /* 1 if the earliest event in the queue comes before site p; then it is
  * the heap's top. Buckets are poured as q_top pours them, but none past
  * p's: an event in a later one starts after p (the map is monotone), and
@@ -2176,14 +2214,26 @@ static int event_first(sweep *w, const double *p) {
     const double *d;
     if (event_dd(w, e->rec, &d)) {
         int c = vor__fortune_dd_cmp(p[1], 0, 0, d[0], d[1], d[2]);
+        if (c == 0 && !w->lattice && event_offset(w, e->rec))
+            c = vor__fortune_dd_cmp(p[1], 0, 0, d[0], d[1], d[2]);
         if (c != 0) return c > 0;
     }
-    const uint32_t *t = w->recs[e->rec].s;
-    const double *a = site_xy(w, t[0]), *b = site_xy(w, t[1]),
-                 *c = site_xy(w, t[2]);
-    w->cnt.event_exact++;
-    int f = vor__fortune_site_first_small(p, a, b, c);
-    if (f < 0) f = vor__fortune_site_first_exact(p, a, b, c);
+    uint32_t r = e->rec;
+    int f = site_before(w, p, w->recs[r].s);
+    if (f && w->late_ok && p[1] == w->ylast) {
+        /* p is on the last row of sites, yet the event's interval reaches
+         * below it: unless moved, the event stays the earliest, and every
+         * site left on that row (the upper of two lines of sites, say)
+         * pays for the same exact comparison. If it comes after the last
+         * site too, it waits in late[] (O(1)) with those after the last
+         * site. */
+        const double *q = site_xy(w, (uint32_t)w->n - 1);
+        if (q == p || site_before(w, q, w->recs[r].s)) {
+            event moved = *e;
+            q_remove(w, r);
+            late_put(w, moved);
+        }
+    }
     return !f;
 }
 

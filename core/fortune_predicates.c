@@ -1374,15 +1374,80 @@ static int top_cancelled(const double *a, int e, circle *ci, double *lo,
  * the top itself. Where g 2^E passes 2^1023 the top is summed in units of
  * 2^E (below); one past the doubles gets [DBL_MAX, inf] and its key,
  * m 2^e. */
-int vor__fortune_circle_top_tight(const double *a, const double *b,
-                                  const double *c, double *lo, double *hi,
-                                  double key[2]) {
-    enum { L = 4 * IN_LIMBS + 8, LR = 7 * IN_LIMBS + 16 }; /* R: degree 6 */
+/* The circle through a, b, c (orient2d > 0) in units of 2^E: fills ci's
+ * D and N (circle_centre; t1, t2, b2, c2 scratch of room L) and returns
+ * g = (Ny + sqrt(R)) / (2D), the top's offset from A.y in those units,
+ * evaluated with positive numbers only (relative error under 2^-49, see
+ * vor__fortune_circle_top_tight); *e receives E. 0 if the sites are
+ * collinear or not distinct (not reached from the sweep). */
+static int circle_offset(const double *a, const double *b, const double *c,
+                         circle *ci, big *t1, big *t2, big *b2, big *c2,
+                         fe *g, int *e) {
     const double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     mp_limb_t store[4][IN_LIMBS + 1];
     big dif[4];
     for (int i = 0; i < 4; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
-    int e = big_diffs(dif, v, 3);
+    *e = big_diffs(dif, v, 3);
+    circle_centre(ci, &dif[0], &dif[1], &dif[2], &dif[3], t1, t2, b2, c2);
+    const big *d = &ci->d, *nx = &ci->nx, *ny = &ci->ny;
+    if (big_sign(d) <= 0) return 0; /* not reached: orient2d > 0 */
+    fe twod = fe_of_big(d);
+    twod.e++;
+    if (big_sign(ny) == 0 && big_sign(nx) == 0) {
+        return 0; /* not reached: the sites are distinct */
+    } else if (big_sign(nx) == 0) {
+        /* the centre straight above or below A: g = (Ny + |Ny|) / 2D */
+        if (big_sign(ny) < 0) *g = (fe){0, 0};
+        else *g = fe_div(fe_of_big(ny), twod), g->e++;
+    } else {
+        fe fx = fe_of_big(nx), fx2 = fe_mul(fx, fx);
+        if (big_sign(ny) == 0) {
+            *g = fe_div(fe_sqrt(fx2), twod);
+        } else {
+            fe fy = fe_of_big(ny);
+            fe r = fe_sqrt(fe_add(fx2, fe_mul(fy, fy)));
+            if (big_sign(ny) > 0)
+                *g = fe_div(fe_add(fy, r), twod);
+            else
+                *g = fe_div(fx2, fe_mul(twod, fe_add(r, fy)));
+        }
+    }
+    return 1;
+}
+
+int vor__fortune_circle_offset(const double *a, const double *b,
+                               const double *c, double *base, double *off,
+                               double *err) {
+    enum { L = 4 * IN_LIMBS + 8 };
+    /* the highest site first: the same circle, the same orientation */
+    const double *p[3] = {a, b, c};
+    int h = a[1] >= b[1] ? (a[1] >= c[1] ? 0 : 2) : (b[1] >= c[1] ? 1 : 2);
+    BIG_LOCAL(t1, L);
+    BIG_LOCAL(t2, L);
+    BIG_LOCAL(b2, L);
+    BIG_LOCAL(c2, L);
+    BIG_LOCAL(cd, L);
+    BIG_LOCAL(cnx, L);
+    BIG_LOCAL(cny, L);
+    circle ci = {cd, cnx, cny, {0, 0, NULL}};
+    fe g;
+    int e;
+    if (!circle_offset(p[h], p[(h + 1) % 3], p[(h + 2) % 3], &ci, &t1, &t2,
+                       &b2, &c2, &g, &e))
+        return 0;
+    long ge = g.e + e;
+    if (g.m != 0 && ge > 1000) return 0;
+    *base = p[h][1];
+    *off = g.m == 0 || ge < -1200 ? 0 : ldexp(g.m, (int)ge);
+    /* g's 2^-49 and the rounding of the scaling (an underflow: 2^-1074) */
+    *err = 0x1p-46 * *off + 0x1p-1060;
+    return 1;
+}
+
+int vor__fortune_circle_top_tight(const double *a, const double *b,
+                                  const double *c, double *lo, double *hi,
+                                  double key[2]) {
+    enum { L = 4 * IN_LIMBS + 8, LR = 7 * IN_LIMBS + 16 }; /* R: degree 6 */
     BIG_LOCAL(t1, L);
     BIG_LOCAL(t2, L);
     BIG_LOCAL(b2, L);
@@ -1392,32 +1457,9 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
     BIG_LOCAL(cny, L);
     BIG_LOCAL(cr, LR); /* filled only where needed, by top_cancelled */
     circle ci = {cd, cnx, cny, cr};
-    circle_centre(&ci, &dif[0], &dif[1], &dif[2], &dif[3], &t1, &t2, &b2,
-                  &c2);
-    const big d = ci.d, nx = ci.nx, ny = ci.ny;
-    if (big_sign(&d) <= 0) return 0; /* not reached: orient2d > 0 */
-    fe twod = fe_of_big(&d);
-    twod.e++;
     fe g;
-    if (big_sign(&ny) == 0 && big_sign(&nx) == 0) {
-        return 0; /* not reached: the sites are distinct */
-    } else if (big_sign(&nx) == 0) {
-        /* the centre straight above or below A: g = (Ny + |Ny|) / 2D */
-        if (big_sign(&ny) < 0) g = (fe){0, 0};
-        else g = fe_div(fe_of_big(&ny), twod), g.e++;
-    } else {
-        fe fx = fe_of_big(&nx), fx2 = fe_mul(fx, fx);
-        if (big_sign(&ny) == 0) {
-            g = fe_div(fe_sqrt(fx2), twod);
-        } else {
-            fe fy = fe_of_big(&ny);
-            fe r = fe_sqrt(fe_add(fx2, fe_mul(fy, fy)));
-            if (big_sign(&ny) > 0)
-                g = fe_div(fe_add(fy, r), twod);
-            else
-                g = fe_div(fx2, fe_mul(twod, fe_add(r, fy)));
-        }
-    }
+    int e;
+    if (!circle_offset(a, b, c, &ci, &t1, &t2, &b2, &c2, &g, &e)) return 0;
     long ge = g.e + e;
     if (g.m != 0 && ge >= 1024) {
         /* G = g 2^E >= 2^1023, and |A.y| < 2^1024: in units of U = 2^E

@@ -121,8 +121,23 @@ static inline int vor__fortune_bp_side_n(const double *a, const double *b,
     } else if (a[1] > b[1]) {
         /* a is the narrower arc; (a, b) is its right end, a.x inside it */
         if (p[0] <= a[0]) return -1;
+    } else {
+        /* equal y: the breakpoint is the vertical bisector. F is then
+         * (py - ay) (bx - ax) (2 px - ax - bx) with py > ay, of the sign
+         * of (bx - ax) (ux + vx); F's own filter fails where p lies far
+         * above a and b against their distance (ux^2 - vx^2 is lost in
+         * uy^2). ux, vx and their sum carry a relative rounding each
+         * (a difference or sum that underflows is exact), so
+         * |fl(ux + vx) - (ux + vx)| <= 2 eps (|ux| + |vx|) to first
+         * order, and 4 eps of the rounded magnitudes bounds it with room
+         * for their roundings; an overflow gives inf or nan, and both
+         * comparisons fail. */
+        double ux = p[0] - a[0], vx = p[0] - b[0], g = ux + vx,
+               bound = 0x1p-51 * (fabs(ux) + fabs(vx));
+        int dir = a[0] < b[0] ? 1 : -1;
+        if (g > bound) return dir;
+        if (-g > bound) return -dir;
     }
-    /* equal y: the breakpoint is the vertical bisector, F decides alone */
     return vor__fortune_bp_poly_n(a, b, p, safe, slow);
 }
 
@@ -191,6 +206,19 @@ static inline int vor__fortune_dd_cmp(double hi1, double lo1, double err1,
 int vor__fortune_circle_top_tight(const double *a, const double *b,
                                   const double *c, double *lo, double *hi,
                                   double key[2]);
+
+/* The top of the circle through a, b, c (orient2d > 0) as the y of its
+ * highest site, *base, plus an offset *off >= 0 known within *err (2^-46
+ * of itself, and 2^-1060), from the circle's exact integers: bounds in
+ * the form of vor__fortune_circle_top_dd's whose width follows the
+ * offset, not the top. Where the top lies just above the highest site
+ * (sites on two lines far apart, whose circles through two close sites
+ * of one line touch it), the double-double bounds are as wide as
+ * 2^-100 of the top and cannot order such tops; these can. 0 if the
+ * offset is past 2^1000. */
+int vor__fortune_circle_offset(const double *a, const double *b,
+                               const double *c, double *base, double *off,
+                               double *err);
 
 /* Compares two tops past the doubles by their keys (within 2^-45 each):
  * -1 if the first is provably lower, +1 if higher, 0 if they cannot

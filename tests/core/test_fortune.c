@@ -343,6 +343,43 @@ static void test_bp_poly(void **state) {
     }
 }
 
+/* Two sites of equal y and a site p above them: the breakpoint is their
+ * vertical bisector, and bp_side's own filter (the sign of 2 px - ax - bx)
+ * must agree with F's everywhere: p near and at the midpoint, far above
+ * (where F's filter fails) or just above, over hundreds of binary orders,
+ * with the pair either way round. */
+static void test_bp_side_equal_y(void **state) {
+    (void)state;
+    vt_rng r = {103};
+    print_message("bp_side, equal y: seed 103\n");
+    int zeros = 0, tests = 0;
+    for (int it = 0; it < 20000; it++) {
+        int es = (int)(vt_next(&r) % 1200) - 600;
+        int eh = es + (int)(vt_next(&r) % 200) - 100;
+        double ax = ldexp(vt_unit(&r) - 0.5, es);
+        double bx = ax + ldexp(vt_unit(&r), es - (int)(vt_next(&r) % 60));
+        double y = ldexp(vt_unit(&r) - 0.5, es);
+        double py = y + ldexp(1 + vt_unit(&r), eh);
+        if (!(bx > ax) || !(py > y)) continue;
+        double mid = ax / 2 + bx / 2, nudge = (double)(long)(vt_next(&r) % 5) - 2;
+        double px = it % 4 ? mid + nudge * fabs(mid) * 0x1p-52
+                           : ldexp(vt_unit(&r) - 0.5, es);
+        double a[2] = {ax, y}, b[2] = {bx, y}, p[2] = {px, py};
+        for (int swap = 0; swap < 2; swap++) {
+            const double *u = swap ? b : a, *v = swap ? a : b;
+            int want = q_bp_poly(u, v, p);
+            tests++;
+            zeros += want == 0;
+            assert_int_equal(vor__fortune_bp_side(u, v, p, 0), want);
+            if (in_safe_range(a) && in_safe_range(b) && in_safe_range(p))
+                assert_int_equal(vor__fortune_bp_side(u, v, p, 1), want);
+        }
+    }
+    print_message("bp_side, equal y: %d tests, %d exactly at the midpoint\n",
+                  tests, zeros);
+    assert_true(tests > 20000 && zeros > 100);
+}
+
 /* The breakpoint predicate's meaning: a site exactly on a circle through
  * a and b that touches the sweep line at it is "on" the breakpoint. */
 static void test_bp_side_on_circle(void **state) {
@@ -406,7 +443,8 @@ static void test_circle_top_bounds(void **state) {
     uint64_t seed = 202;
     print_message("circle_top: seed %llu\n", (unsigned long long)seed);
     vt_rng r = {seed};
-    int finite = 0, dd_ok = 0, n_tight = 0, n_beyond = 0, triples = 0;
+    int finite = 0, dd_ok = 0, n_tight = 0, n_beyond = 0, triples = 0,
+        n_offset = 0;
     for (int it = 0; it < 40000; it++) {
         double t[3][2];
         if (!random_triple(&r, it % KINDS, t)) continue;
@@ -458,7 +496,18 @@ static void test_circle_top_bounds(void **state) {
             dd_ok++;
             check_dd_top(t, th, tl, err);
         }
+        /* bounds relative to the highest site: they hold the top, their
+         * base is that site's y, and they are within 2^-45 of the offset
+         * above it */
+        if (vor__fortune_circle_offset(t[0], t[1], t[2], &th, &tl, &err)) {
+            n_offset++;
+            check_dd_top(t, th, tl, err);
+            assert_true(th == fmax(t[0][1], fmax(t[1][1], t[2][1])));
+            assert_true(tl >= 0 && err <= 0x1p-45 * tl + 0x1p-1059);
+        }
     }
+    print_message("circle_top: %d of %d offset bounds\n", n_offset, triples);
+    assert_true(n_offset > triples - triples / 16);
     /* the filters must be useful, not just safe; the tight interval is
      * missing only for tops beyond the doubles (kind 7: sites 2^1000
      * apart in a nearly collinear triple) */
@@ -1623,6 +1672,21 @@ static void test_wide_sets(void **state) {
     counts_of("a city and a stray point at 10^300", xy, N, &c);
     under_one_in(100, c.breakpoint_exact, "past the inline filter",
                  c.breakpoint_tests, "breakpoint tests");
+    /* two lines of sites 10^-3 long, 10^6 apart: the upper line's sites meet the
+     * breakpoints of the lower line's pairs, vertical bisectors, which
+     * bp_side decides itself (F's filter failed nearly every test), and
+     * events whose tops lie just above the upper line, which the bounds
+     * relative to the highest site order (double-double bounds could not)
+     * and which wait after the last site once shown to come after it */
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = 1e-3 * vt_unit(&r);
+        xy[2 * i + 1] = i % 2 ? 1e6 : 0;
+    }
+    counts_of("two lines 1e-3 long, 10^6 apart", xy, N, &c);
+    under_one_in(100, c.breakpoint_exact, "past the inline filter",
+                 c.breakpoint_tests, "breakpoint tests");
+    under_one_in(100, c.event_exact, "exact", c.event_compares,
+                 "event comparisons");
     for (size_t i = 0; i < N; i++) {
         xy[2 * i] = 1000 * vt_unit(&r);
         xy[2 * i + 1] = vt_unit(&r);
@@ -1918,6 +1982,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bp_poly),
         cmocka_unit_test(test_bp_side_on_circle),
+        cmocka_unit_test(test_bp_side_equal_y),
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_circle_cmp),
