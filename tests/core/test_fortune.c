@@ -1647,6 +1647,7 @@ static void test_wide_sets(void **state) {
         xy[2 * i + 1] = vt_unit(&r);
     }
     vor_counts c;
+    size_t n;
     counts_of("x log-uniform over 2^-60 .. 2^60, y in [0, 1]", xy, N, &c);
     under_one_in(8, c.exact, "exact", c.event_compares, "event comparisons");
     /* past the filters' safe range: the events' intervals come from
@@ -1687,12 +1688,25 @@ static void test_wide_sets(void **state) {
                  c.breakpoint_tests, "breakpoint tests");
     under_one_in(100, c.event_exact, "exact", c.event_compares,
                  "event comparisons");
+    /* a grid turned by 30 degrees and rounded: a third of its cells stay
+     * exactly cocircular, and their two triangles' events, equal tops
+     * that no bounds separate, are shown equal by one incircle test
+     * (one_circle), not by the exact comparison of their circles */
+    n = 0;
+    for (int i = 0; i < 44; i++)
+        for (int j = 0; j < 44; j++, n++) {
+            xy[2 * n] = i * 0.8660254037844387 - j * 0.5;
+            xy[2 * n + 1] = i * 0.5 + j * 0.8660254037844387;
+        }
+    counts_of("44 x 44 grid turned by 30 degrees", xy, n, &c);
+    under_one_in(100, c.event_exact, "exact", c.event_compares,
+                 "event comparisons");
     for (size_t i = 0; i < N; i++) {
         xy[2 * i] = 1000 * vt_unit(&r);
         xy[2 * i + 1] = vt_unit(&r);
     }
     check_points("1000 x 1 box", xy, N, 1);
-    size_t n = 0;
+    n = 0;
     for (int j = 0; j < 9; j++) /* rows sqrt(3)/2 apart, 9 x 100 */
         for (int i = 0; i < 100; i++, n++) {
             xy[2 * n] = i + 0.5 * (j % 2);
