@@ -245,6 +245,10 @@ enum MHD_Result srv__finish_compute(srv_req *q, struct MHD_Connection *conn);
 /* Drops the request's reference to its job (on_completed). */
 void srv__job_unref(srv_compute_job *j);
 
+/* 1 if the job stopped because its client had hung up (for the log; read
+ * after the answer was published). */
+int srv__job_client_gone(srv_compute_job *j);
+
 /* ---- handlers.c ---------------------------------------------------------- */
 
 /* Answers the whole request q on a route that is not a computation (and

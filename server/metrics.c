@@ -180,7 +180,7 @@ void srv_metrics_render(srv_metrics *m, const srv_gauges *g, api_buf *out) {
 
     header(out, "voronoid_computations_stopped_total", "counter",
            "Computations stopped unfinished because their answer was given "
-           "up on (--timeout passed, or shutdown).");
+           "up on (--timeout passed, shutdown, or the client hung up).");
     api_buf_printf(out, "voronoid_computations_stopped_total %llu\n",
                    (unsigned long long)get(&c->stopped));
     header(out, "voronoid_queue_depth", "gauge",

@@ -230,6 +230,8 @@ static void on_completed(void *cls, struct MHD_Connection *conn,
         }
         if (q->id[0] == '\0') make_request_id(q);
     }
+    if (q->job != NULL && srv__job_client_gone(q->job))
+        note = "client-gone"; /* it stopped for that, then could not send */
     if (q->status == 0 && srv_guard_conn_too_slow(q->gconn)) {
         q->status = 408; /* the guard answered for us */
         note = "upload-too-slow";

@@ -19,8 +19,10 @@
  * deadline, or by srv_server_cancel), and only then is the connection
  * resumed; run()'s own output lives in separate fields, so a late run()
  * never races the answer. A run() whose answer was given up on stops: the
- * algorithms ask job_stop every VOR_STOP_EVERY sites or events. The job
- * is freed when both references are gone.
+ * algorithms ask job_stop every VOR_STOP_EVERY sites or events, which
+ * also says stop once the client has closed its connection (job_stop
+ * looks at the suspended connection's socket). The job is freed when
+ * both references are gone.
  *
  * Cost: parsing, computing, serializing and gzip happen on the workers,
  * except for inline requests (bounded by --inline-points and
@@ -28,9 +30,12 @@
  * body, then the codec's result and the answer (the body is freed once
  * parsed).
  */
+#include <errno.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 
 #include "budget.h"
 #include "fmt.h"
@@ -60,12 +65,20 @@ struct srv_compute_job {
     srv_reply r;          /* the answer, written once by done() */
     atomic_int answered;
     int stopped;          /* run(): the core was told to stop (job_stop) */
+    atomic_int gone;      /* job_stop found the client gone */
+    /* The client's socket, -1 if unknown or once the answer is published:
+     * then libmicrohttpd may close it and the number be reused, so job_stop
+     * looks at it and job_done clears it under fd_lock. */
+    int fd;
+    pthread_mutex_t fd_lock;
+    int64_t peeked_ns;    /* job_stop: when it last looked at fd */
 };
 
 
 void srv__job_unref(srv_compute_job *j) {
     if (atomic_fetch_sub_explicit(&j->refs, 1, memory_order_acq_rel) != 1)
         return;
+    pthread_mutex_destroy(&j->fd_lock);
     free(j->body);
     free(j->accept);
     for (size_t i = 0; i < j->n_opts; i++) {
@@ -77,6 +90,10 @@ void srv__job_unref(srv_compute_job *j) {
     free(j);
 }
 
+
+int srv__job_client_gone(srv_compute_job *j) {
+    return atomic_load_explicit(&j->gone, memory_order_relaxed);
+}
 
 static double ms_since(int64_t t0_ns) {
     return (double)(srv_now_ns() - t0_ns) / 1e6;
@@ -137,12 +154,39 @@ static int job_stopped(srv_job *base) {
     return base != NULL && srv_job_abandoned(base);
 }
 
+/* How often job_stop looks whether the client is still there. */
+#define SRV_PEEK_NS 50000000
+
+/* 1 if the client has closed its side of the connection (or it broke):
+ * a read of the suspended connection's socket that would not block finds
+ * its end. A client may send a second request meanwhile (pipelining):
+ * data is not the end, and MSG_PEEK leaves it for libmicrohttpd. A client
+ * that half-closes after its request counts as gone, as reverse proxies
+ * count it. */
+static int client_gone(int fd) {
+    char c;
+    ssize_t k = recv(fd, &c, 1, MSG_PEEK | MSG_DONTWAIT);
+    return k == 0 || (k < 0 && errno != EAGAIN && errno != EWOULDBLOCK &&
+                      errno != EINTR);
+}
+
 /* The core's question (api_request.stop): nobody waits for the answer any
- * more (deadline, shutdown), so the worker stops computing it and is free
- * for the next request. */
+ * more (deadline, shutdown, or the client hung up), so the worker stops
+ * computing it and is free for the next request. The socket is looked at
+ * every SRV_PEEK_NS at most (the question comes every VOR_STOP_EVERY
+ * sites, a few times a millisecond). */
 static int job_stop(void *ctx) {
     srv_compute_job *j = ctx;
-    if (!srv_job_abandoned(&j->base)) return 0;
+    if (!srv_job_abandoned(&j->base)) {
+        int64_t now = srv_now_ns();
+        if (now - j->peeked_ns < SRV_PEEK_NS) return 0;
+        j->peeked_ns = now;
+        pthread_mutex_lock(&j->fd_lock);
+        int gone = j->fd >= 0 && client_gone(j->fd);
+        pthread_mutex_unlock(&j->fd_lock);
+        if (!gone) return 0;
+        atomic_store_explicit(&j->gone, 1, memory_order_relaxed);
+    }
     j->stopped = 1;
     return 1;
 }
@@ -427,6 +471,9 @@ static void job_done(srv_job *base, srv_job_outcome outcome) {
         j->r.points = -1;
     }
     atomic_store_explicit(&j->answered, 1, memory_order_release);
+    pthread_mutex_lock(&j->fd_lock);
+    j->fd = -1; /* job_stop may be looking at it (a late run()) */
+    pthread_mutex_unlock(&j->fd_lock);
     MHD_resume_connection(j->conn);
 }
 
@@ -572,8 +619,13 @@ enum MHD_Result srv__start_compute(srv_req *q, struct MHD_Connection *conn) {
                                  "out of memory");
     atomic_init(&j->refs, 2);
     atomic_init(&j->answered, 0);
+    atomic_init(&j->gone, 0);
+    pthread_mutex_init(&j->fd_lock, NULL);
     j->srv = s;
     j->conn = conn;
+    const union MHD_ConnectionInfo *ci =
+        MHD_get_connection_info(conn, MHD_CONNECTION_INFO_CONNECTION_FD);
+    j->fd = ci != NULL ? ci->connect_fd : -1;
     j->compare = compare;
     snprintf(j->instance, sizeof j->instance, "%s", instance);
     j->kind = q->kind;

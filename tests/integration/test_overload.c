@@ -5,7 +5,8 @@
  *   - with a short --timeout, a request being computed and one waiting in
  *     the queue both answer 504, and the service recovers;
  *   - a computation past its deadline stops (the core is asked whether
- *     to go on), and its worker is free again.
+ *     to go on), and its worker is free again; so does one whose client
+ *     hung up, but not one whose client pipelines its next request.
  * Slow requests are sized on this machine first (it_calibrate); the tests
  * assert outcomes, never durations. */
 #include <setjmp.h>
@@ -176,12 +177,86 @@ static void test_deadline_stops_computation(void **state) {
     assert_int_equal(it_cleanup(&d), 0);
 }
 
+/* A client that hangs up while its comparison runs frees the worker: the
+ * computation stops (the worker looks at the socket when the core asks
+ * whether to go on) and is counted stopped, long before its deadline
+ * (60 s here). Were it left to run, the count would not move. A client
+ * that sends its next request meanwhile (pipelining) is no hang-up: its
+ * comparison runs to the end and both answers come. */
+static void test_hang_up_stops_computation(void **state) {
+    (void)state;
+    it_daemon d;
+    const char *args[] = {"--workers", "1", "--timeout", "60", NULL};
+    assert_int_equal(it_start(&d, args), 0);
+    size_t n = it_calibrate(&d, 0.2, 1000000);
+    wait_workers_idle(&d);
+    double before = it_get_metric(&d, "voronoid_computations_stopped_total");
+    char body[256], req[512];
+    int len = snprintf(body, sizeof body,
+                       "{\"generate\": {\"distribution\": \"uniform\", "
+                       "\"n\": %zu, \"seed\": 3}, \"format\": "
+                       "\"timings\", \"repeat\": 10}", n);
+    int rl = snprintf(req, sizeof req,
+                      "POST /compare HTTP/1.1\r\nHost: x\r\n"
+                      "Content-Type: application/json\r\n"
+                      "Content-Length: %d\r\n\r\n%s", len, body);
+    int fd = it_connect(d.port);
+    assert_true(fd >= 0);
+    assert_int_equal(it_send_all(fd, req, (size_t)rl), 0);
+    for (int i = 0; i < 3000 &&
+                    it_get_metric(&d, "voronoid_workers_busy") == 0; i++)
+        it_sleep(0.01);
+    assert_true(it_get_metric(&d, "voronoid_workers_busy") == 1);
+    close(fd);
+    wait_workers_idle(&d);
+    assert_true(it_get_metric(&d, "voronoid_computations_stopped_total") ==
+                before + 1);
+    small_request_works(&d);
+    assert_true(it_log_has(&d, "note=client-gone"));
+
+    /* pipelined: a small request right behind the slow one, then both
+     * answers, 200 each, and nothing stopped */
+    const char small[] = "{\"points\": [[0,0],[1,0],[0,1]]}";
+    len = snprintf(body, sizeof body,
+                   "{\"generate\": {\"distribution\": \"uniform\", "
+                   "\"n\": %zu, \"seed\": 3}, \"format\": \"timings\"}",
+                   n);
+    char two[1024];
+    int tl = snprintf(two, sizeof two,
+                      "POST /compare HTTP/1.1\r\nHost: x\r\n"
+                      "Content-Type: application/json\r\n"
+                      "Content-Length: %d\r\n\r\n%s"
+                      "POST /voronoi HTTP/1.1\r\nHost: x\r\n"
+                      "Content-Type: application/json\r\n"
+                      "Content-Length: %zu\r\n\r\n%s", len, body,
+                      strlen(small), small);
+    fd = it_connect(d.port);
+    assert_true(fd >= 0);
+    assert_int_equal(it_send_all(fd, two, (size_t)tl), 0);
+    static char buf[1 << 16];
+    int closed;
+    it_recv_response(fd, buf, sizeof buf, 120, &closed);
+    assert_int_equal(it_raw_status(buf), 200);
+    /* the second answer may have come in the same read */
+    const char *second = strstr(buf + 1, "HTTP/1.1 ");
+    if (second == NULL) {
+        it_recv_response(fd, buf, sizeof buf, 30, &closed);
+        second = buf;
+    }
+    assert_int_equal(it_raw_status(second), 200);
+    close(fd);
+    assert_true(it_get_metric(&d, "voronoid_computations_stopped_total") ==
+                before + 1);
+    assert_int_equal(it_cleanup(&d), 0);
+}
+
 int main(void) {
     curl_global_init(CURL_GLOBAL_ALL);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_full_queue_503_then_recovers),
         cmocka_unit_test(test_deadline_504),
         cmocka_unit_test(test_deadline_stops_computation),
+        cmocka_unit_test(test_hang_up_stops_computation),
     };
     int rc = cmocka_run_group_tests_name("integration/overload", tests, NULL,
                                          NULL);
