@@ -1649,7 +1649,12 @@ static void test_wide_sets(void **state) {
     vor_counts c;
     size_t n;
     counts_of("x log-uniform over 2^-60 .. 2^60, y in [0, 1]", xy, N, &c);
-    under_one_in(8, c.exact, "exact", c.event_compares, "event comparisons");
+    /* nearly collinear triples of sites far apart in x: tops close
+     * together just above their highest site, which the bounds relative
+     * to that site separate (901 of 18,496 comparisons went exact with
+     * the double-double bounds alone) */
+    under_one_in(100, c.exact, "exact", c.event_compares,
+                 "event comparisons");
     /* past the filters' safe range: the events' intervals come from
      * their exact circles (tight_top), and two events meet the exact
      * comparison about never (before: 37,730 of 51,099 comparisons) */
