@@ -680,7 +680,8 @@ static keyed *bucket_sort(const ymap *m, keyed *a, keyed *tmp, size_t n) {
  * its bits; only the filters gain. */
 typedef struct frame {
     double off[2]; /* subtracted from x and y */
-    double scale;
+    double scale, scale2; /* then multiplied by both (2^1023 and more for
+                           * sites of subnormal magnitude) */
     int turn; /* the sweep runs along x: its (x, y) is (-y, x) */
 } frame;
 
@@ -702,11 +703,12 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, frame f) {
     const int along = f.turn ? 0 : 1;
     const double sign = f.turn ? -1.0 : 1.0;
     for (size_t j = 0; j < n; j++) {
-        uint64_t k = dkey((s->xy[2 * j + along] - f.off[along]) * f.scale);
+        uint64_t k =
+            dkey((s->xy[2 * j + along] - f.off[along]) * f.scale * f.scale2);
         a[j].k = k;
         /* + 0.0: a turned 0 is +0.0, as the sites' coordinates are */
         a[j].x = sign * ((s->xy[2 * j + 1 - along] - f.off[1 - along]) *
-                         f.scale) + 0.0;
+                         f.scale * f.scale2) + 0.0;
         a[j].i = (uint32_t)j;
         kmin = k < kmin ? k : kmin;
         kmax = k > kmax ? k : kmax;
@@ -829,7 +831,7 @@ static double bulk_scale(const vor_sites *s, frame f, int emax, double mn,
  * across its rows as along them (cocircular rectangles appear), while
  * other grids gain a little. */
 static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
-    frame f = {{0, 0}, 1.0, 0};
+    frame f = {{0, 0}, 1.0, 1.0, 0};
     double box[4];
     vor__bbox(s->xy, s->n, box);
     double hx = box[2] * 0.5 - box[0] * 0.5, hy = box[3] * 0.5 - box[1] * 0.5;
@@ -860,11 +862,22 @@ static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
     /* a small lattice: every coordinate a multiple of 2^lowest below 2^e,
      * e - lowest <= 26 bits (pixels, grids, small integers) */
     *lattice = e - lowest <= 26;
-    f.scale = ldexp(1.0, 1 - e > 1023 ? 1023 : 1 - e);
-    if (1 - e > 1023 || ldexp(mn, 1 - e) < DBL_MIN) f.scale = 1.0;
-    double smx = mx * f.scale, smn = mn * f.scale;
+    /* scaled by 2^(1 - e), in two factors past 2^1023 (sites of
+     * subnormal magnitude: scaling up is exact), unless the smallest
+     * difference would turn subnormal */
+    int sh = 1 - e;
+    if (ldexp(mn, sh) < DBL_MIN) sh = 0;
+    f.scale = ldexp(1.0, sh > 1023 ? 1023 : sh);
+    f.scale2 = ldexp(1.0, sh > 1023 ? sh - 1023 : 0);
+    double smx = ldexp(mx, sh), smn = ldexp(mn, sh);
     *safe = smx < 2.0 && smn >= 0x1p-250;
-    if (!*safe) f.scale = bulk_scale(s, f, e, mn, f.scale);
+    if (!*safe) {
+        double b = bulk_scale(s, f, e, mn, 0.0);
+        if (b != 0.0) {
+            f.scale = b;
+            f.scale2 = 1.0;
+        }
+    }
     return f;
 }
 

@@ -22,6 +22,7 @@
  * state (vor__walk) when it stops.
  */
 #include <assert.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -169,6 +170,47 @@ void vor__scratch_free(void *q) {
  * x->GHOST (3g+1) is the twin of GHOST->x in the ghost of the edge that ends
  * at x, which is edge prev(k): 3(1 + prev(k)) + 2.
  */
+/* The local copy's scale. Every predicate's sign is the same for the
+ * sites scaled by a power of two, exactly, and the filters decide only
+ * within their range: sites of magnitude 10^200 or 10^-200 made every
+ * orient2d and incircle of Bowyer-Watson and flipping rescale per call
+ * (186 ms at 10^5 uniform sites, 62 ms in [0, 1]), subnormal ones go to
+ * the expansions (1.0 s). So the copy (local ids, box its bounding box)
+ * is scaled so that its largest magnitude lies in [1/2, 1) when that is
+ * beyond 2^+-32: scaled up always (exact below DBL_MAX), down only if
+ * its smallest nonzero magnitude stays a normal double (exact then). The
+ * conversion reads the copy for incircle tests only, and the diagram's
+ * geometry comes from the sites themselves. Returns the span of the copy
+ * as scaled. */
+static double scale_local(double *local, size_t n, const double box[4]) {
+    double big = 0;
+    for (int k = 0; k < 4; k++)
+        big = fabs(box[k]) > big ? fabs(box[k]) : big;
+    int e;
+    (void)frexp(big, &e); /* big in [2^(e-1), 2^e) */
+    if (big > 0 && (e < -32 || e > 32)) {
+        int ok = e < 0;
+        if (!ok) { /* down: the smallest nonzero magnitude stays normal */
+            double small = big;
+            for (size_t i = 0; i < 2 * n; i++) {
+                double v = fabs(local[i]);
+                if (v > 0 && v < small) small = v;
+            }
+            int f;
+            (void)frexp(small, &f);
+            ok = f - e >= -1020;
+        }
+        if (ok) {
+            for (size_t i = 0; i < 2 * n; i++) local[i] = ldexp(local[i], -e);
+            double sx = ldexp(box[2], -e) - ldexp(box[0], -e),
+                   sy = ldexp(box[3], -e) - ldexp(box[1], -e);
+            return sx > sy ? sx : sy;
+        }
+    }
+    double sx = box[2] - box[0], sy = box[3] - box[1];
+    return sx > sy ? sx : sy;
+}
+
 vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
                            uint32_t *order, double **pxy, vor__walk *w) {
     double *local = *pxy; /* the caller's block, if any: ours now */
@@ -227,7 +269,9 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     }
     w->tri = 0;
     w->rng = 0x9e3779b9u;
-    const double span = vor__span(local, n);
+    double box[4];
+    vor__bbox(local, n, box);
+    double span = scale_local(local, n, box);
     w->occ = vor__orient2d_static_bound(span);
     w->icc = vor__incircle_static_bound(span);
     *pxy = local;

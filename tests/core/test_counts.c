@@ -285,6 +285,45 @@ static void test_exact_and_refined(void **state) {
     free(xy);
 }
 
+/* The same 3000 uniform sites scaled by 2^700, 2^-700 and 2^-1060 (all
+ * subnormal): Bowyer-Watson's and flipping's copy of the coordinates and
+ * Fortune's frame are scaled back into the filters' range (exactly, by a
+ * power of two), so that exact arithmetic stays rare where every
+ * predicate went to it, and the three diagrams are the same. */
+static void test_scaled_sets(void **state) {
+    (void)state;
+    enum { N = 3000 };
+    double *xy = vt_uniform(N, 9), *p = malloc(2 * N * sizeof *p);
+    assert_true(xy != NULL && p != NULL);
+    static const int shifts[] = {700, -700, -1060};
+    for (int k = 0; k < 3; k++) {
+        for (size_t i = 0; i < 2 * N; i++) p[i] = ldexp(xy[i], shifts[k]);
+        vor_sites *s = sites_of(p, N);
+        vor_diagram *d[3] = {NULL, NULL, NULL};
+        for (int a = 0; a < 3; a++) {
+            vor_algorithm alg = a == 0   ? VOR_BOWYER_WATSON
+                                : a == 1 ? VOR_FLIP
+                                         : VOR_FORTUNE;
+            vor_counts c;
+            vor_options o = {.counts = &c};
+            assert_int_equal(vor_compute_ex(s, alg, &o, &d[a]), VOR_OK);
+            uint64_t tests = a < 2 ? c.orient2d + c.incircle
+                                   : c.breakpoint_tests + c.event_compares;
+            print_message("  2^%d: %s: %llu exact of %llu\n", shifts[k],
+                          vor_algorithm_name(alg),
+                          (unsigned long long)c.exact,
+                          (unsigned long long)tests);
+            assert_true(c.exact * 100 < tests);
+        }
+        assert_true(vor_diagram_equal(d[0], d[1]));
+        assert_true(vor_diagram_equal(d[0], d[2]));
+        for (int a = 0; a < 3; a++) vor_diagram_free(d[a]);
+        vor_sites_free(s);
+    }
+    free(p);
+    free(xy);
+}
+
 static void test_degenerate_and_errors(void **state) {
     (void)state;
     const double line[] = {0, 0, 1, 1, 2, 2, 3, 3};
@@ -317,6 +356,7 @@ int main(void) {
         cmocka_unit_test(test_bounded_per_site),
         cmocka_unit_test(test_walk_every_distribution),
         cmocka_unit_test(test_exact_and_refined),
+        cmocka_unit_test(test_scaled_sets),
         cmocka_unit_test(test_degenerate_and_errors),
     };
     return cmocka_run_group_tests_name("core/counts", tests, NULL, NULL);
