@@ -1374,21 +1374,39 @@ static int top_cancelled(const double *a, int e, circle *ci, double *lo,
  * the top itself. Where g 2^E passes 2^1023 the top is summed in units of
  * 2^E (below); one past the doubles gets [DBL_MAX, inf] and its key,
  * m 2^e. */
-/* The circle through a, b, c (orient2d > 0) in units of 2^E: fills ci's
- * D and N (circle_centre; t1, t2, b2, c2 scratch of room L) and returns
+/* What circle_offset fills and works in: the circle's D and N (its R
+ * left to the caller) and four scratch integers, all of degree 3 at
+ * most. */
+enum { CW_LIMBS = 4 * IN_LIMBS + 8 };
+typedef struct circle_work {
+    mp_limb_t limbs[7][CW_LIMBS];
+    big t[4];
+    circle ci;
+} circle_work;
+
+static void circle_work_init(circle_work *cw, big r) {
+    big *b[7] = {&cw->t[0], &cw->t[1], &cw->t[2], &cw->t[3],
+                 &cw->ci.d, &cw->ci.nx, &cw->ci.ny};
+    for (int i = 0; i < 7; i++) *b[i] = (big){0, CW_LIMBS, cw->limbs[i]};
+    cw->ci.r = r;
+}
+
+/* The circle through a, b, c (orient2d > 0) in units of 2^E: fills cw's
+ * D and N (circle_centre) and returns
  * g = (Ny + sqrt(R)) / (2D), the top's offset from A.y in those units,
  * evaluated with positive numbers only (relative error under 2^-49, see
  * vor__fortune_circle_top_tight); *e receives E. 0 if the sites are
  * collinear or not distinct (not reached from the sweep). */
 static int circle_offset(const double *a, const double *b, const double *c,
-                         circle *ci, big *t1, big *t2, big *b2, big *c2,
-                         fe *g, int *e) {
+                         circle_work *cw, fe *g, int *e) {
     const double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     mp_limb_t store[4][IN_LIMBS + 1];
     big dif[4];
     for (int i = 0; i < 4; i++) dif[i] = (big){0, IN_LIMBS + 1, store[i]};
     *e = big_diffs(dif, v, 3);
-    circle_centre(ci, &dif[0], &dif[1], &dif[2], &dif[3], t1, t2, b2, c2);
+    circle *ci = &cw->ci;
+    circle_centre(ci, &dif[0], &dif[1], &dif[2], &dif[3], &cw->t[0],
+                  &cw->t[1], &cw->t[2], &cw->t[3]);
     const big *d = &ci->d, *nx = &ci->nx, *ny = &ci->ny;
     if (big_sign(d) <= 0) return 0; /* not reached: orient2d > 0 */
     fe twod = fe_of_big(d);
@@ -1418,22 +1436,14 @@ static int circle_offset(const double *a, const double *b, const double *c,
 int vor__fortune_circle_offset(const double *a, const double *b,
                                const double *c, double *base, double *off,
                                double *err) {
-    enum { L = 4 * IN_LIMBS + 8 };
     /* the highest site first: the same circle, the same orientation */
     const double *p[3] = {a, b, c};
     int h = a[1] >= b[1] ? (a[1] >= c[1] ? 0 : 2) : (b[1] >= c[1] ? 1 : 2);
-    BIG_LOCAL(t1, L);
-    BIG_LOCAL(t2, L);
-    BIG_LOCAL(b2, L);
-    BIG_LOCAL(c2, L);
-    BIG_LOCAL(cd, L);
-    BIG_LOCAL(cnx, L);
-    BIG_LOCAL(cny, L);
-    circle ci = {cd, cnx, cny, {0, 0, NULL}};
+    circle_work cw;
+    circle_work_init(&cw, (big){0, 0, NULL});
     fe g;
     int e;
-    if (!circle_offset(p[h], p[(h + 1) % 3], p[(h + 2) % 3], &ci, &t1, &t2,
-                       &b2, &c2, &g, &e))
+    if (!circle_offset(p[h], p[(h + 1) % 3], p[(h + 2) % 3], &cw, &g, &e))
         return 0;
     long ge = g.e + e;
     if (g.m != 0 && ge > 1000) return 0;
@@ -1447,19 +1457,13 @@ int vor__fortune_circle_offset(const double *a, const double *b,
 int vor__fortune_circle_top_tight(const double *a, const double *b,
                                   const double *c, double *lo, double *hi,
                                   double key[2]) {
-    enum { L = 4 * IN_LIMBS + 8, LR = 7 * IN_LIMBS + 16 }; /* R: degree 6 */
-    BIG_LOCAL(t1, L);
-    BIG_LOCAL(t2, L);
-    BIG_LOCAL(b2, L);
-    BIG_LOCAL(c2, L);
-    BIG_LOCAL(cd, L);
-    BIG_LOCAL(cnx, L);
-    BIG_LOCAL(cny, L);
+    enum { LR = 7 * IN_LIMBS + 16 }; /* R: degree 6 */
     BIG_LOCAL(cr, LR); /* filled only where needed, by top_cancelled */
-    circle ci = {cd, cnx, cny, cr};
+    circle_work cw;
+    circle_work_init(&cw, cr);
     fe g;
     int e;
-    if (!circle_offset(a, b, c, &ci, &t1, &t2, &b2, &c2, &g, &e)) return 0;
+    if (!circle_offset(a, b, c, &cw, &g, &e)) return 0;
     long ge = g.e + e;
     if (g.m != 0 && ge >= 1024) {
         /* G = g 2^E >= 2^1023, and |A.y| < 2^1024: in units of U = 2^E
@@ -1473,7 +1477,7 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
             a[1] == 0 || apart > 1100 ? 0 : ldexp(ay.m, (int)-apart);
         double sum = a[1] < 0 ? g.m - share : g.m + share, eu = 0x1p-47;
         if (sum < 0.5 * g.m) /* A.y < 0 takes away over half of G */
-            return top_cancelled(a, e, &ci, lo, hi);
+            return top_cancelled(a, e, &cw.ci, lo, hi);
         if (sum - eu > ldexp(DBL_MAX, (int)-(ge > 2100 ? 2100 : ge))) {
             fe top = fe_norm(sum, ge);
             *lo = DBL_MAX;
@@ -1492,7 +1496,7 @@ int vor__fortune_circle_top_tight(const double *a, const double *b,
                              : ge < -1200 ? 0 : ldexp(g.m, (int)ge);
     double t = a[1] + gd;
     if (a[1] < 0 && gd > 0 && !(fabs(t) >= -0.5 * a[1]))
-        return top_cancelled(a, e, &ci, lo, hi);
+        return top_cancelled(a, e, &cw.ci, lo, hi);
     double err = 0x1p-46 * gd + 0x1p-51 * fabs(t) + 0x1p-1060;
     *lo = t - err;
     *hi = t + err;
