@@ -1857,10 +1857,16 @@ static void front(sweep *w, uint32_t last) {
  * events' lo, the waiting ones of late[] and those in the heap included,
  * and they spread over the buckets, with cur back at the first: sites on
  * a parabola or near a line leave nearly half their events to then,
- * which the heap took one O(log n) operation at a time. (Fitting it to
- * the events while sites remain, where they bunch up among the last sites
- * on a circle, measured slower than the heap there.) VOR_ENOMEM if out of
- * memory. */
+ * which the heap took one O(log n) operation at a time. The same holds
+ * a little before the last site when the heap has grown past REFIT_MIN
+ * events and 16 per site left: the events of sites on a circle, whose
+ * tops differ from the circle's top only by the sites' rounding, lie
+ * above all but its last few dozen sites; they crowd the buckets of
+ * those sites and from there the heap (22 k events on average at each
+ * removal, 10^5 sites), and fitted to the events then, the buckets take
+ * them (see sweep_run). Fitting
+ * earlier, while events still bunch among the sites, measured slower
+ * than the heap. VOR_ENOMEM if out of memory. */
 static vor_status refit(sweep *w) {
     size_t m = (size_t)w->n_heap + w->n_bucketed + w->n_late, k = 0;
     keyed *a = malloc(m * sizeof *a);
@@ -2347,7 +2353,11 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     for (uint64_t step = 0;; step++) {
         vor_status st;
         if (vor__stop_now(w->run, step)) return VOR_ESTOPPED;
-        if (i == n && w->late_ok) {
+        /* after the last site, or when the heap holds most events and
+         * few sites are left (see refit) */
+        if (w->late_ok &&
+            (i == n || (w->bhead && w->n_heap >= REFIT_MIN &&
+                        w->n_heap > 16 * (n - i)))) {
             if (w->bhead && q_size(w) + w->n_late >= REFIT_MIN) {
                 if ((st = refit(w)) != VOR_OK) return st;
             } else {
