@@ -993,6 +993,18 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
     return 1;
 }
 
+VOR__FMA_CLONES
+int vor__fortune_exact_top(const double *circle, double *hi, double *lo) {
+    double r2 = circle[2], r, p;
+    if (!(r2 > 0)) return 0;
+    r = sqrt(r2); /* correctly rounded: exact if r2 is a double's square */
+    if (!exact_mul(r, r, &p) || p != r2) return 0;
+    dd t = two_sum(circle[1], r);
+    *hi = t.hi;
+    *lo = t.lo;
+    return 1;
+}
+
 /* Order of the exact sums p and q, each as a two-sum (hi = fl(sum)): fl is
  * monotone, so unequal high parts decide. */
 static inline int sum_cmp(dd p, dd q) {

@@ -236,10 +236,18 @@ static inline int vor__fortune_key_cmp(const double k1[2],
 
 /* Exact ties cheaply. 1 if the centre and squared radius of the circle
  * through a, b, c (orient2d > 0) are exactly representable and were
- * computed exactly: out = {x, y, r^2}. Two such circles have equal tops iff
- * equal y and r^2. 0 otherwise (nothing is known then). */
+ * computed exactly: out = {x, y, r^2}. Two such circles of equal y and
+ * r^2 have equal tops; so may others (see vor__fortune_exact_top). 0
+ * otherwise (nothing is known then). */
 int vor__fortune_circle_exact_double(const double *a, const double *b,
                                      const double *c, double *out);
+
+/* The top of a circle known exactly (circle = {x, y, r^2} from
+ * vor__fortune_circle_exact_double) when its radius is exact in doubles
+ * too, as the Pythagorean radii of a lattice's circles are: 1 with
+ * y + r = *hi + *lo exactly (*hi the sum rounded), else 0. Two such
+ * tops are equal iff both parts are, and ordered by *hi, then *lo. */
+int vor__fortune_exact_top(const double *circle, double *hi, double *lo);
 
 /* Exact ties of translates. When the triangle a2, b2, c2 is exactly a
  * translate of a1, b1, c1 by some vector (the same shape, in any

@@ -716,6 +716,81 @@ static void test_site_first(void **state) {
         }
 }
 
+/* Tops known exactly (vor__fortune_exact_top): for lattice triples, at
+ * integer scale and scaled by powers of two, whose circles are exact in
+ * doubles, the top is reported iff the squared radius is a rational
+ * square, and then equals y + r exactly; and the order of two such tops
+ * by (hi, lo) is the exact order. */
+static void test_exact_top(void **state) {
+    (void)state;
+    uint64_t seed = 313;
+    print_message("exact_top: seed %llu\n", (unsigned long long)seed);
+    vt_rng r = {seed};
+    enum { KEEP = 4000 };
+    static double kept[KEEP][3][2];
+    int n_exact = 0, n_top = 0, n_kept = 0;
+    mpq_t X, Y, R2, Y2, X2, R22, q, z;
+    mpq_inits(X, Y, R2, Y2, X2, R22, q, z, NULL);
+    for (int it = 0; it < 40000; it++) {
+        double t[3][2], c[3], hi, lo;
+        double scale = ldexp(1.0, (int)(vt_next(&r) % 41) - 20);
+        long ox = (long)(vt_next(&r) % 2000) - 1000,
+             oy = (long)(vt_next(&r) % 2000) - 1000;
+        for (int i = 0; i < 3; i++) {
+            t[i][0] = (double)(ox + (long)(vt_next(&r) % 21) - 10) * scale;
+            t[i][1] = (double)(oy + (long)(vt_next(&r) % 21) - 10) * scale;
+        }
+        int o = vor_orient2d(t[0], t[1], t[2]);
+        if (o == 0) continue;
+        if (o < 0) {
+            double sw[2] = {t[1][0], t[1][1]};
+            memcpy(t[1], t[2], sizeof sw);
+            memcpy(t[2], sw, sizeof sw);
+        }
+        if (!vor__fortune_circle_exact_double(t[0], t[1], t[2], c)) continue;
+        n_exact++;
+        q_circle(t[0], t[1], t[2], X, Y, R2);
+        int square = mpz_perfect_square_p(mpq_numref(R2)) &&
+                     mpz_perfect_square_p(mpq_denref(R2));
+        int got = vor__fortune_exact_top(c, &hi, &lo);
+        assert_int_equal(got, square);
+        if (!got) continue;
+        n_top++;
+        /* Y + sqrt(R2) - (hi + lo) = 0 */
+        mpq_set_d(q, hi);
+        mpq_set_d(z, lo);
+        mpq_add(q, q, z);
+        mpq_set_ui(z, 0, 1);
+        assert_int_equal(q_cmp_sum_sqrt(Y, R2, q, z), 0);
+        if (n_kept < KEEP) memcpy(kept[n_kept++], t, sizeof t);
+    }
+    print_message("exact_top: %d of %d exact circles have exact tops\n",
+                  n_top, n_exact);
+    assert_true(n_top > 200);
+    /* pairs of kept triples, and each with a translate along x (equal
+     * tops): the order of (hi, lo) against the exact one */
+    int equal = 0;
+    for (int i = 0; i + 1 < n_kept; i++) {
+        double (*a)[2] = kept[i], b[3][2], ca[3], cb[3], ha, la, hb, lb;
+        memcpy(b, i % 2 ? kept[i + 1] : kept[i], sizeof b);
+        const double dx = 7 * fabs(b[0][0] - b[1][0]);
+        if (i % 2 == 0)
+            for (int k = 0; k < 3; k++) b[k][0] += dx;
+        assert_true(vor__fortune_circle_exact_double(a[0], a[1], a[2], ca));
+        if (!vor__fortune_circle_exact_double(b[0], b[1], b[2], cb)) continue;
+        assert_true(vor__fortune_exact_top(ca, &ha, &la));
+        assert_true(vor__fortune_exact_top(cb, &hb, &lb));
+        int got = ha != hb ? (ha < hb ? -1 : 1) : (la > lb) - (la < lb);
+        q_circle(a[0], a[1], a[2], X, Y, R2);
+        q_circle(b[0], b[1], b[2], X2, Y2, R22);
+        assert_int_equal(got, q_cmp_sum_sqrt(Y, R2, Y2, R22));
+        equal += got == 0;
+    }
+    print_message("exact_top: %d pairs of equal tops\n", equal);
+    assert_true(equal > n_kept / 4);
+    mpq_clears(X, Y, R2, Y2, X2, R22, q, z, NULL);
+}
+
 static void test_circle_cmp(void **state) {
     (void)state;
     uint64_t seed = 404;
@@ -1303,6 +1378,34 @@ static void test_unit_circle_1e5(void **state) {
                   (unsigned long long)c.circle_events);
     assert_true(c.event_compares < 8 * c.circle_events);
     free(xy);
+}
+
+/* Integer pixels, a fifth of a 400 x 200 window: rows of equal y, and
+ * circles of Pythagorean radius whose tops lie on rows and equal one
+ * another's. Their tops, known exactly in doubles, order them against
+ * the sites of a row and each other without integers (exact comparisons
+ * were half the circle events), and the buckets, spread over the rows by
+ * the linear map of y, keep the heap in front of them short (7.7
+ * comparisons per circle event with the coarser rank map). */
+static void test_pixels(void **state) {
+    (void)state;
+    enum { N = 16000 };
+    static double xy[2 * N];
+    vt_rng r = {71};
+    print_message("pixels: seed 71\n");
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = (double)(vt_next(&r) % 400);
+        xy[2 * i + 1] = (double)(vt_next(&r) % 200);
+    }
+    vor_counts c;
+    counts_of("integer pixels", xy, N, &c);
+    print_message("pixels: %llu exact and %llu comparisons for %llu circle "
+                  "events\n",
+                  (unsigned long long)c.event_exact,
+                  (unsigned long long)c.event_compares,
+                  (unsigned long long)c.circle_events);
+    assert_true(c.event_exact < c.circle_events / 10);
+    assert_true(c.event_compares < 6 * c.circle_events);
 }
 
 /* Grids of decimal spacing (0.37 by 0.11, not a small lattice in
@@ -2014,6 +2117,7 @@ int main(void) {
         cmocka_unit_test(test_bp_side_equal_y),
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_site_first),
+        cmocka_unit_test(test_exact_top),
         cmocka_unit_test(test_circle_cmp),
         cmocka_unit_test(test_box_cmp),
         cmocka_unit_test(test_level_cmp),
@@ -2037,6 +2141,7 @@ int main(void) {
         cmocka_unit_test(test_small_random),
         cmocka_unit_test(test_unit_circle_1e5),
         cmocka_unit_test(test_grid_1000),
+        cmocka_unit_test(test_pixels),
     };
     return cmocka_run_group_tests_name("core/fortune", tests, NULL, NULL);
 }
