@@ -295,8 +295,10 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
  *          a ----- b
  *             f (entered through)
  */
-/* Hull edges tried on each side of a ghost the walk starts at. */
-#define HULL_LOOK 2
+static inline double dist2(const double *a, const double *b) {
+    double dx = a[0] - b[0], dy = a[1] - b[1];
+    return dx * dx + dy * dy;
+}
 
 uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
                           vor__walk *w, int32_t *on_edge) {
@@ -310,29 +312,46 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
     if (vor__mesh_is_ghost(tri, t)) {
         /* A ghost whose hull edge p is strictly outside of is an answer.
          * Sites in convex position (on a curve) make that the common case:
-         * each lies just outside the hull, within an edge or two of the
-         * site before, at whose ghost the walk starts (Bowyer-Watson).
-         * So the start's hull edge and HULL_LOOK more on each side are
-         * tried; failing them, the walk starts in the finite triangle
-         * across the start's edge. Hull edge e = x->y of a ghost: the
-         * next one, from y, is next(adj[next(e)]); the one before, to x,
-         * prev(adj[prev(e)]). */
+         * each lies just outside the hull, near the site before, at whose
+         * ghost the walk starts (Bowyer-Watson) -- but not always within
+         * an edge or two of it: a round's Hilbert order leaves a piece of
+         * the curve for another and comes back, and a walk through the
+         * interior from there crosses the long thin triangles of a convex
+         * set one by one (10^5 sites on a parabola: a fifth of the sites
+         * walked 36 steps on average, three times the steps of uniform
+         * sites in all). So the walk goes along the hull first, towards
+         * the hull vertex nearer p, as long as the vertices come nearer
+         * (by the rounded distance: the direction is only a guess; the
+         * answer is an exact test); failing that, it goes on from the
+         * finite triangle across the last hull edge tested, which lies
+         * as near p as the hull gets there. Hull edge e = x->y of a
+         * ghost: the next one, from y, is next(adj[next(e)]); the one
+         * before, to x, prev(adj[prev(e)]). */
         uint32_t e = 3 * t;
         while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
             e++;
-        uint32_t fw = e, bw = e;
-        for (int i = 0; i <= 2 * HULL_LOOK; i++) {
-            uint32_t h = i == 0 ? e
-                         : (i & 1) ? (fw = vor__next((uint32_t)adj[vor__next(fw)]))
-                                   : (bw = vor__prev((uint32_t)adj[vor__prev(bw)]));
+        double dx = dist2(XY(tri[e]), pp), dy = dist2(XY(tri[vor__next(e)]), pp);
+        const int forward = dy < dx;
+        double best = forward ? dy : dx;
+        for (int last = 0;; steps++) {
             tests++;
-            if (vor__orient2d_static_n(XY(tri[h]), XY(tri[vor__next(h)]), pp,
+            if (vor__orient2d_static_n(XY(tri[e]), XY(tri[vor__next(e)]), pp,
                                        occ, &w->exact) > 0) {
-                w->tri = h / 3;
+                w->tri = e / 3;
                 w->orient2d += tests;
+                w->steps += steps;
                 *on_edge = -1;
-                return h / 3;
+                return e / 3;
             }
+            if (last) break;
+            /* the edge out of the nearest vertex is tested too */
+            e = forward ? vor__next((uint32_t)adj[vor__next(e)])
+                        : vor__prev((uint32_t)adj[vor__prev(e)]);
+            double d = dist2(XY(tri[forward ? vor__next(e) : e]), pp);
+            if (d < best)
+                best = d;
+            else
+                last = 1;
         }
         t = (uint32_t)adj[e] / 3;
     }
