@@ -359,6 +359,59 @@ static void axis_scales(const double *xy, size_t n, const double box[4],
     }
 }
 
+/* Far strays. A dense set with a few sites far from it (a city and one
+ * failed geocode at (0, 0)) puts the whole set into one cell of the grid
+ * over its bounding box, and every site is keyed a second time, on the
+ * grid over that cell's sites (refine): a pass in key order that reads
+ * the coordinates at random, a twentieth of Bowyer-Watson's time at 10^6
+ * sites. So the grid goes over the bulk of the sites instead when at
+ * most n / 1024 lie outside it, and quantise() puts the strays into the
+ * edge cells. The bulk, per axis: the range of a sample of BULK_SAMPLE
+ * sites less its two extremes, widened by 8 / BULK_SAMPLE of itself on
+ * each side, then the sites' own extremes within that; tried only when
+ * the axis's span is four times the sample's. One pass over the sites
+ * when tried. */
+#define BULK_SAMPLE 1024
+
+static int cmp_value(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void bulk_box(const double *xy, size_t n, double box[4]) {
+    if (n < 16 * BULK_SAMPLE) return;
+    double lo[2], hi[2], smp[BULK_SAMPLE];
+    int tried = 0;
+    for (int a = 0; a < 2; a++) {
+        for (size_t j = 0; j < BULK_SAMPLE; j++)
+            smp[j] = xy[2 * (j * (n / BULK_SAMPLE)) + (size_t)a];
+        qsort(smp, BULK_SAMPLE, sizeof *smp, cmp_value);
+        double s0 = smp[1], s1 = smp[BULK_SAMPLE - 2], wd = s1 - s0;
+        lo[a] = box[a];
+        hi[a] = box[a + 2];
+        if (wd > 0 && box[a + 2] * 0.5 - box[a] * 0.5 > 2 * wd) {
+            lo[a] = s0 - wd * (8.0 / BULK_SAMPLE);
+            hi[a] = s1 + wd * (8.0 / BULK_SAMPLE);
+            tried = 1;
+        }
+    }
+    if (!tried) return;
+    double b[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    size_t out = 0;
+    for (size_t i = 0; i < n; i++) {
+        double x = xy[2 * i], y = xy[2 * i + 1];
+        if (x < lo[0] || x > hi[0] || y < lo[1] || y > hi[1]) {
+            if (++out > n / 1024) return; /* a tail, not a few strays */
+            continue;
+        }
+        b[0] = x < b[0] ? x : b[0];
+        b[1] = y < b[1] ? y : b[1];
+        b[2] = x > b[2] ? x : b[2];
+        b[3] = y > b[3] ? y : b[3];
+    }
+    if (b[0] <= b[2] && b[1] <= b[3]) memcpy(box, b, sizeof b);
+}
+
 /* Refinements nest at most this deep: each resolves at least a factor of
  * 2^11 in scale, and doubles span 2098 binary orders of magnitude
  * (2^-1074 to 2^1024), so 192 levels separate any sites the grid can.
@@ -485,6 +538,7 @@ vor_status vor__insertion_order_in(const double *xy, size_t n,
      * around the scaled box */
     double box[4], scale[2];
     vor__bbox(xy, n, box);
+    bulk_box(xy, n, box);
     const double xmin = box[0], ymin = box[1], xmax = box[2], ymax = box[3];
     double hx = xmax * 0.5 - xmin * 0.5, hy = ymax * 0.5 - ymin * 0.5;
     axis_scales(xy, n, box, (double *)tmp, scale);

@@ -303,6 +303,65 @@ static void test_locality_skewed(void **state) {
     free(xy);
 }
 
+/* Mean distance between consecutive sites of order o that both lie in
+ * the box [x0, x0 + 1] x [y0, y0 + 1]. */
+static double mean_step_in(const double *xy, size_t n, const uint32_t *o,
+                           double x0, double y0) {
+    long double sum = 0;
+    size_t k = 0;
+    for (size_t i = 1; i < n; i++) {
+        const double *p = xy + 2 * (size_t)o[i - 1], *q = xy + 2 * (size_t)o[i];
+        if (p[0] < x0 || p[0] > x0 + 1 || p[1] < y0 || p[1] > y0 + 1 ||
+            q[0] < x0 || q[0] > x0 + 1 || q[1] < y0 || q[1] > y0 + 1)
+            continue;
+        sum += dist(xy, o[i - 1], o[i]);
+        k++;
+    }
+    return k ? (double)(sum / (long double)k) : 0;
+}
+
+/* A dense city and a few far strays: the grid goes over the city, the
+ * strays go to its edge cells, and no site is keyed twice (the grid over
+ * the whole box put the city into a few cells, refined one by one); the
+ * city's sites come as close together as without the strays. More
+ * strays than n / 1024 are a tail, and the box keeps them. */
+static void test_far_strays(void **state) {
+    (void)state;
+    const size_t n = 20000;
+    double *xy = malloc(2 * n * sizeof *xy);
+    assert_non_null(xy);
+    for (int strays = 3; strays <= 40; strays += 37) {
+        vt_rng r = {seed + 7};
+        for (size_t i = 0; i < n; i++) {
+            xy[2 * i] = 8.45 + 0.1 * vt_unit(&r);
+            xy[2 * i + 1] = 47.25 + 0.1 * vt_unit(&r);
+        }
+        uint32_t *oc = order_of(xy, n);
+        double alone = mean_step_in(xy, n, oc, 8, 47);
+        free(oc);
+        for (int k = 0; k < strays; k++) { /* spread over the input */
+            size_t i = (size_t)k * (n / (size_t)strays) + 11;
+            xy[2 * i] = k % 2 ? 0 : -120 + 7 * k;
+            xy[2 * i + 1] = k % 3 ? 0 : 60 - 5 * k;
+        }
+        vor_counts c;
+        memset(&c, 0, sizeof c);
+        uint32_t *o = order_of(xy, n);
+        assert_int_equal(vor__insertion_order_counted(xy, n, o, &c), VOR_OK);
+        double step = mean_step_in(xy, n, o, 8, 47);
+        printf("# %d far strays: %llu refinements, the city's step %.3g "
+               "(alone %.3g)\n", strays,
+               (unsigned long long)c.order_refinements, step, alone);
+        if (strays == 3)
+            assert_int_equal(c.order_refinements, 0);
+        else
+            assert_true(c.order_refinements > 0);
+        assert_true(step < 1.25 * alone);
+        free(o);
+    }
+    free(xy);
+}
+
 /* On the 256 x 256 integer grid every site has its own cell of the
  * 2^8 grid, so inside a round the sites must come in strictly increasing
  * textbook curve position; a decrease marks the start of a round. The
@@ -455,6 +514,7 @@ int main(void) {
         cmocka_unit_test(test_curve_and_rounds),
         cmocka_unit_test(test_locality_skewed),
         cmocka_unit_test(test_rows_and_columns),
+        cmocka_unit_test(test_far_strays),
         cmocka_unit_test(test_standard_sets),
     };
     return cmocka_run_group_tests_name("core/hilbert", tests, setup_seed,
