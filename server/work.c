@@ -223,10 +223,20 @@ static void input_problem(srv_reply *out, const api_problem *p,
  * about 215 bytes a point, result included (sites 24, diagram about 150),
  * clipping about 200 more; three algorithms for /compare about 520; the
  * JSON answer about 320 bytes a point with the default parts. The
- * estimates below round these up. */
+ * estimates below round these up, and cover the worst inputs measured
+ * (bench_algo's peak_bpp over about seventy kinds of point set): Fortune's
+ * sweep keeps an arc for every site of a set in convex position or on a
+ * few lines, and an event for most, up to 406 bytes a point in the core
+ * (a parabola; 385 on the whole for a circle of 10^6 points), where
+ * Bowyer-Watson and flip stay under 210. A comparison that runs each
+ * algorithm more than once runs Fortune again with the other two
+ * diagrams held (730 bytes a point for a circle of 10^6 points, 620 for
+ * uniform ones, with two runs each). */
 #define BPP_COMPUTE 260
+#define BPP_FORTUNE 450
 #define BPP_CLIP 260
 #define BPP_COMPARE 600
+#define BPP_COMPARE_REPEAT 900
 
 static int needs_clip(const api_request *r) {
     return r->format == API_FMT_GEOJSON || r->format == API_FMT_SVG ||
@@ -258,8 +268,13 @@ static int streams(const api_request *r, int compare) {
 
 /* What the request will hold at its peak, computing and answering. */
 static size_t estimate(const api_request *r, int compare, int stream) {
-    size_t n = r->n, per = compare ? BPP_COMPARE
-                                   : BPP_COMPUTE + (needs_clip(r) ? BPP_CLIP : 0);
+    size_t n = r->n, per;
+    if (compare)
+        per = api_compare_repeat(r, r->n) > 1 ? BPP_COMPARE_REPEAT
+                                               : BPP_COMPARE;
+    else
+        per = (r->algorithm == VOR_FORTUNE ? BPP_FORTUNE : BPP_COMPUTE) +
+              (needs_clip(r) ? BPP_CLIP : 0);
     size_t answer = stream ? SRV_STREAM_OVERHEAD
                            : n * answer_bpp(r) + n * answer_bpp(r) / 4;
     return (256u << 10) + n * per + answer;

@@ -138,6 +138,30 @@ static void test_budget_refuses_large_work(void **state) {
                 1);
 }
 
+/* The estimate is the algorithm's: Fortune's sweep holds about 385 bytes
+ * a point for sites on a circle (an arc for every site, an event for
+ * most), Bowyer-Watson under 210. 250,000 points on the unit circle fit
+ * 96 MiB with Bowyer-Watson, and not with Fortune (estimated at the
+ * figure for uniform points they were taken, and held half as much
+ * again as the budget said). */
+static void test_budget_per_algorithm(void **state) {
+    (void)state;
+    const char *algs[] = {"bowyer-watson", "fortune"};
+    for (int k = 0; k < 2; k++) {
+        char body[256];
+        snprintf(body, sizeof body,
+                 "{\"generate\":{\"distribution\":\"circle\",\"n\":250000,"
+                 "\"seed\":5},\"algorithm\":\"%s\",\"format\":\"timings\"}",
+                 algs[k]);
+        it_req q = {.path = "/voronoi", .body = body, .len = strlen(body)};
+        it_resp r;
+        it_http(&d, &q, &r);
+        if (r.status != (k == 0 ? 200 : 503))
+            fail_msg("%s: %ld %s", algs[k], r.status, r.body);
+        it_free(&r);
+    }
+}
+
 /* A connection asking for a streamed answer that it never reads. */
 static int stalled_request(size_t n) {
     int fd = socket(AF_INET, SOCK_STREAM, 0);
@@ -233,6 +257,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_streamed_answers),
         cmocka_unit_test(test_budget_refuses_large_work),
+        cmocka_unit_test(test_budget_per_algorithm),
         cmocka_unit_test(test_non_readers_are_dropped),
         cmocka_unit_test(test_sigterm_with_streams),
     };
