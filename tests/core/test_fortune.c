@@ -1361,6 +1361,18 @@ static void counts_of(const char *name, const double *xy, size_t n,
     vor_sites_free(s);
 }
 
+/* counts_of, and the queue must have taken fewer than per comparisons
+ * per circle event. */
+static void compares_under(const char *name, const double *xy, size_t n,
+                           unsigned per) {
+    vor_counts c;
+    counts_of(name, xy, n, &c);
+    print_message("%s: %llu comparisons for %llu circle events\n", name,
+                  (unsigned long long)c.event_compares,
+                  (unsigned long long)c.circle_events);
+    assert_true(c.event_compares < per * c.circle_events);
+}
+
 /* Sites on a circle: every event's top lies just above the circle's top,
  * above all but its last few dozen sites, whose buckets the events crowd
  * before the last site: the buckets are fitted to the events once the
@@ -1371,12 +1383,7 @@ static void test_unit_circle_1e5(void **state) {
     size_t n = 100000;
     double *xy = vt_unit_circle(n);
     assert_non_null(xy);
-    vor_counts c;
-    counts_of("unit circle, 1e5 points", xy, n, &c);
-    print_message("unit circle: %llu comparisons for %llu circle events\n",
-                  (unsigned long long)c.event_compares,
-                  (unsigned long long)c.circle_events);
-    assert_true(c.event_compares < 8 * c.circle_events);
+    compares_under("unit circle, 1e5 points", xy, n, 8);
     free(xy);
 }
 
@@ -1987,12 +1994,7 @@ static void test_event_queue(void **state) {
         xy[2 * i] = k * cos(a);
         xy[2 * i + 1] = k * sin(a);
     }
-    vor_counts rc;
-    counts_of("20 rings, buckets crowded by nearly equal tops", xy, n, &rc);
-    print_message("rings: %llu comparisons for %llu circle events\n",
-                  (unsigned long long)rc.event_compares,
-                  (unsigned long long)rc.circle_events);
-    assert_true(rc.event_compares < 8 * rc.circle_events);
+    compares_under("20 rings, buckets crowded by nearly equal tops", xy, n, 8);
     free(xy);
 
     enum { R = 400 };
