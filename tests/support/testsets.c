@@ -231,6 +231,71 @@ static double *mk_duplicates(size_t *n) {
     return xy;
 }
 
+/* 2000 sites on the parabola y = x^2, x random in [-1, 1]: convex
+ * position, every site outside the hull of those inserted before it. */
+static double *mk_parabola(size_t *n) {
+    *n = 2000;
+    double *xy = alloc_xy(*n);
+    if (!xy) return NULL;
+    vt_rng r = {16};
+    for (size_t i = 0; i < *n; i++) {
+        double x = 2 * vt_unit(&r) - 1;
+        xy[2 * i] = x;
+        xy[2 * i + 1] = x * x;
+    }
+    return xy;
+}
+
+/* A time series: 2000 readings at x = 0, 1, 2, ..., y a Gaussian random
+ * walk. */
+static double *mk_random_walk(size_t *n) {
+    *n = 2000;
+    double *xy = alloc_xy(*n);
+    if (!xy) return NULL;
+    vt_rng r = {17};
+    double y = 0;
+    for (size_t i = 0; i < *n; i++) {
+        y += vt_gauss(&r);
+        xy[2 * i] = (double)i;
+        xy[2 * i + 1] = y;
+    }
+    return xy;
+}
+
+/* Six tracks of 500 positions each, as a GPS logs them: steps of 5 units
+ * with a slowly turning heading, and noise of 0.5 on each position. */
+static double *mk_tracks(size_t *n) {
+    *n = 3000;
+    double *xy = alloc_xy(*n);
+    if (!xy) return NULL;
+    vt_rng r = {18};
+    for (size_t t = 0; t < 6; t++) {
+        double x = 1000 * vt_unit(&r), y = 1000 * vt_unit(&r),
+               h = 6.283185307179586 * vt_unit(&r);
+        for (size_t k = 0; k < 500; k++) {
+            h += 0.1 * vt_gauss(&r);
+            x += 5 * cos(h);
+            y += 5 * sin(h);
+            size_t i = 500 * t + k;
+            xy[2 * i] = x + 0.5 * vt_gauss(&r);
+            xy[2 * i + 1] = y + 0.5 * vt_gauss(&r);
+        }
+    }
+    return xy;
+}
+
+/* A 40x40 integer grid, each coordinate moved by about 10^-12: every cell
+ * nearly cocircular, the circles' tops of a row within 10^-16 or so of one
+ * another. */
+static double *mk_jittered_grid(size_t *n) {
+    double *xy = vt_grid(40, 40);
+    *n = 1600;
+    if (!xy) return NULL;
+    vt_rng r = {19};
+    for (size_t i = 0; i < 2 * *n; i++) xy[i] += 1e-12 * vt_gauss(&r);
+    return xy;
+}
+
 static double *scaled_uniform(size_t n, uint64_t seed, double scale,
                               double offset) {
     double *xy = vt_uniform(n, seed);
@@ -341,6 +406,10 @@ static const struct {
     {"lognormal-2000", mk_lognormal_2000},
     {"outlier-2000", mk_outlier_2000},
     {"decades-2000", mk_decades_2000},
+    {"parabola-2000", mk_parabola},
+    {"random-walk-2000", mk_random_walk},
+    {"tracks-3000", mk_tracks},
+    {"jittered-grid-40x40", mk_jittered_grid},
 };
 
 size_t vt_count(void) { return sizeof sets / sizeof sets[0]; }
