@@ -1892,9 +1892,8 @@ static void front(sweep *w, uint32_t last) {
  * above all but its last few dozen sites; they crowd the buckets of
  * those sites and from there the heap (22 k events on average at each
  * removal, 10^5 sites), and fitted to the events then, the buckets take
- * them (see sweep_run). Fitting
- * earlier, while events still bunch among the sites, measured slower
- * than the heap. VOR_ENOMEM if out of memory. */
+ * them (see sweep_run). Fitting earlier, while events still bunch among
+ * the sites, measured slower than the heap. VOR_ENOMEM if out of memory. */
 static vor_status refit(sweep *w) {
     size_t m = (size_t)w->n_heap + w->n_bucketed + w->n_late, k = 0;
     keyed *a = malloc(m * sizeof *a);

@@ -369,24 +369,30 @@ static void axis_scales(const double *xy, size_t n, const double box[4],
  * edge cells. The bulk, per axis: the range of a sample of BULK_SAMPLE
  * sites less its two extremes, widened by 8 / BULK_SAMPLE of itself on
  * each side, then the sites' own extremes within that; tried only when
- * the axis's span is four times the sample's. One pass over the sites
- * when tried. */
+ * the axis's span is four times the sample's (the sweep's y map finds
+ * the bulk of y the same way: fortune.c, bulk_range). One pass over the
+ * sites when tried. */
 #define BULK_SAMPLE 1024
-
-static int cmp_value(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static void bulk_box(const double *xy, size_t n, double box[4]) {
     if (n < 16 * BULK_SAMPLE) return;
-    double lo[2], hi[2], smp[BULK_SAMPLE];
+    double lo[2], hi[2];
     int tried = 0;
     for (int a = 0; a < 2; a++) {
-        for (size_t j = 0; j < BULK_SAMPLE; j++)
-            smp[j] = xy[2 * (j * (n / BULK_SAMPLE)) + (size_t)a];
-        qsort(smp, BULK_SAMPLE, sizeof *smp, cmp_value);
-        double s0 = smp[1], s1 = smp[BULK_SAMPLE - 2], wd = s1 - s0;
+        /* the sample's second smallest and second largest */
+        double m[2] = {INFINITY, INFINITY}, M[2] = {-INFINITY, -INFINITY};
+        for (size_t j = 0; j < BULK_SAMPLE; j++) {
+            double v = xy[2 * (j * (n / BULK_SAMPLE)) + (size_t)a];
+            if (v < m[1]) {
+                m[1] = v < m[0] ? m[0] : v;
+                m[0] = v < m[0] ? v : m[0];
+            }
+            if (v > M[1]) {
+                M[1] = v > M[0] ? M[0] : v;
+                M[0] = v > M[0] ? v : M[0];
+            }
+        }
+        double s0 = m[1], s1 = M[1], wd = s1 - s0;
         lo[a] = box[a];
         hi[a] = box[a + 2];
         if (wd > 0 && box[a + 2] * 0.5 - box[a] * 0.5 > 2 * wd) {

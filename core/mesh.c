@@ -330,9 +330,11 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
         uint32_t e = 3 * t;
         while (tri[e] == VOR__GHOST || tri[vor__next(e)] == VOR__GHOST)
             e++;
-        double dx = dist2(XY(tri[e]), pp), dy = dist2(XY(tri[vor__next(e)]), pp);
-        const int forward = dy < dx;
-        double best = forward ? dy : dx;
+        /* squared distances of p from the edge's two ends */
+        double dfrom = dist2(XY(tri[e]), pp),
+               dto = dist2(XY(tri[vor__next(e)]), pp);
+        const int forward = dto < dfrom;
+        double best = forward ? dto : dfrom;
         for (int last = 0;; steps++) {
             tests++;
             if (vor__orient2d_static_n(XY(tri[e]), XY(tri[vor__next(e)]), pp,

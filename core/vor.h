@@ -197,7 +197,7 @@ void vor_diagram_free(vor_diagram *d);
       "Hilbert keys computed for the insertion order: one per site, plus "  \
       "one per site of every refinement")                                    \
     X(walk_steps, VOR_IN_INCREMENTAL,                                        \
-      "triangles crossed by point location")                                 \
+      "triangles point location stepped through, hull ghosts included")      \
     X(triangles_created, VOR_IN_INCREMENTAL,                                 \
       "triangles made, ghosts included: the first triangle and its three "  \
       "ghosts, then the stars (Bowyer-Watson) or the splits and flips "     \

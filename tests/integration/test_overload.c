@@ -144,6 +144,29 @@ static void test_deadline_504(void **state) {
     assert_int_equal(it_cleanup(&d), 0);
 }
 
+/* A daemon with one worker and --timeout timeout, sized (it_calibrate):
+ * *n points make a /voronoi of about 0.2 s here; *stopped receives
+ * voronoid_computations_stopped_total once the worker is idle. */
+static void one_worker(it_daemon *d, const char *timeout, size_t *n,
+                       double *stopped) {
+    const char *args[] = {"--workers", "1", "--timeout", timeout, NULL};
+    assert_int_equal(it_start(d, args), 0);
+    *n = it_calibrate(d, 0.2, 1000000);
+    wait_workers_idle(d);
+    *stopped = it_get_metric(d, "voronoid_computations_stopped_total");
+}
+
+/* The body of a slow comparison of n generated points, timings only,
+ * with repeat runs each (0: the default); its length. */
+static int slow_compare(char *body, size_t size, size_t n, size_t repeat) {
+    char rep[48] = "";
+    if (repeat) snprintf(rep, sizeof rep, ", \"repeat\": %zu", repeat);
+    return snprintf(body, size,
+                    "{\"generate\": {\"distribution\": \"uniform\", \"n\": "
+                    "%zu, \"seed\": 3}, \"format\": \"timings\"%s}",
+                    n, rep);
+}
+
 /* A computation whose answer nobody waits for any more stops: a
  * comparison many times longer than the deadline (--timeout twice as long
  * as one slow /voronoi, so that it passes while the algorithms run, not
@@ -154,17 +177,11 @@ static void test_deadline_504(void **state) {
 static void test_deadline_stops_computation(void **state) {
     (void)state;
     it_daemon d;
-    const char *args[] = {"--workers", "1", "--timeout", "0.4", NULL};
-    assert_int_equal(it_start(&d, args), 0);
-    size_t n = it_calibrate(&d, 0.2, 1000000);
-    wait_workers_idle(&d);
-    double before = it_get_metric(&d, "voronoid_computations_stopped_total");
-    size_t repeat = 10000000 / n < 10 ? 10000000 / n : 10;
+    size_t n;
+    double before;
+    one_worker(&d, "0.4", &n, &before);
     char body[256];
-    snprintf(body, sizeof body,
-             "{\"generate\": {\"distribution\": \"uniform\", \"n\": %zu, "
-             "\"seed\": 2}, \"format\": \"timings\", \"repeat\": %zu}",
-             n, repeat);
+    slow_compare(body, sizeof body, n, 10000000 / n < 10 ? 10000000 / n : 10);
     it_req q = {.path = "/compare", .body = body, .len = strlen(body)};
     it_resp r;
     it_http(&d, &q, &r);
@@ -186,16 +203,11 @@ static void test_deadline_stops_computation(void **state) {
 static void test_hang_up_stops_computation(void **state) {
     (void)state;
     it_daemon d;
-    const char *args[] = {"--workers", "1", "--timeout", "60", NULL};
-    assert_int_equal(it_start(&d, args), 0);
-    size_t n = it_calibrate(&d, 0.2, 1000000);
-    wait_workers_idle(&d);
-    double before = it_get_metric(&d, "voronoid_computations_stopped_total");
+    size_t n;
+    double before;
+    one_worker(&d, "60", &n, &before);
     char body[256], req[512];
-    int len = snprintf(body, sizeof body,
-                       "{\"generate\": {\"distribution\": \"uniform\", "
-                       "\"n\": %zu, \"seed\": 3}, \"format\": "
-                       "\"timings\", \"repeat\": 10}", n);
+    int len = slow_compare(body, sizeof body, n, 10);
     int rl = snprintf(req, sizeof req,
                       "POST /compare HTTP/1.1\r\nHost: x\r\n"
                       "Content-Type: application/json\r\n"
@@ -217,10 +229,7 @@ static void test_hang_up_stops_computation(void **state) {
     /* pipelined: a small request right behind the slow one, then both
      * answers, 200 each, and nothing stopped */
     const char small[] = "{\"points\": [[0,0],[1,0],[0,1]]}";
-    len = snprintf(body, sizeof body,
-                   "{\"generate\": {\"distribution\": \"uniform\", "
-                   "\"n\": %zu, \"seed\": 3}, \"format\": \"timings\"}",
-                   n);
+    len = slow_compare(body, sizeof body, n, 0);
     char two[1024];
     int tl = snprintf(two, sizeof two,
                       "POST /compare HTTP/1.1\r\nHost: x\r\n"
