@@ -2520,10 +2520,23 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     if ((st = sort_sites(&w, s, f)) != VOR_OK) goto fail;
 
     st = VOR_ENOMEM;
-    w.cap_arcs = 64;
-    w.arcs = malloc(w.cap_arcs * sizeof *w.arcs);
-    w.red = malloc(w.cap_arcs);
-    if (recs_resize(&w, 64)) goto fail;
+    /* Room for every arc and event record the sweep can hold (a site adds
+     * at most two arcs; an arc has at most one event), taken at once: the
+     * pages past the longest beach line are never touched, and nothing is
+     * copied as the beach line grows. Sites in convex position keep an
+     * arc for each site: doubling copied the records of 10^6 sites on a
+     * circle four times over and faulted each new block in. Where the
+     * address space is short, the arrays start small and double. */
+    w.cap_arcs = (uint32_t)(2 * w.n + 2);
+    while (!(w.arcs = malloc(w.cap_arcs * sizeof *w.arcs)) ||
+           !(w.red = malloc(w.cap_arcs)) || recs_resize(&w, w.cap_arcs)) {
+        free(w.arcs);
+        free(w.red);
+        w.arcs = NULL;
+        w.red = NULL;
+        if (w.cap_arcs <= 64) goto fail;
+        w.cap_arcs = 64;
+    }
     w.cap_edges = 3 * w.n;
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;

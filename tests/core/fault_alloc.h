@@ -22,12 +22,21 @@
 
 static int fault_armed;
 static long fault_countdown = -1;
+static long fault_also = -1;
 static long fault_seen;
 
 static void fault_arm(long countdown) {
     fault_seen = 0;
     fault_countdown = countdown;
+    fault_also = -1;
     fault_armed = 1;
+}
+
+/* As fault_arm(countdown), and the allocation numbered also fails too:
+ * for the allocations of a path that only the first failure opens. */
+static inline void fault_arm_two(long countdown, long also) {
+    fault_arm(countdown);
+    fault_also = also;
 }
 
 static void fault_disarm(void) { fault_armed = 0; }
@@ -35,8 +44,9 @@ static void fault_disarm(void) { fault_armed = 0; }
 /* Decides for one allocation: 1 = fail it. */
 static int fault_now(void) {
     if (!fault_armed) return 0;
+    int also = fault_seen == fault_also;
     fault_seen++;
-    return fault_countdown-- == 0;
+    return (fault_countdown-- == 0) | also;
 }
 
 typedef void *(*fault_malloc_fn)(size_t);

@@ -310,8 +310,10 @@ static void test_traced_alloc_failures(void **state) {
             st = vor_compute_ex(s, (vor_algorithm)a, &o, &d);
             fault_disarm();
             if (st == VOR_OK) {
-                /* only giving back unused memory may fail without harm:
-                 * the shrinking reallocs of the cocircular conversion */
+                /* only giving back unused memory may fail without harm,
+                 * the shrinking reallocs of the cocircular conversion,
+                 * and Fortune's room for every arc and record it can
+                 * hold (three blocks: it then starts small and doubles) */
                 tolerated++;
                 int same = vor_diagram_equal(d, want);
                 vor_diagram_free(d);
@@ -322,7 +324,7 @@ static void test_traced_alloc_failures(void **state) {
             assert_null(d);
         }
         vor_diagram_free(want);
-        assert_true(tolerated <= 2);
+        assert_true(tolerated <= (a == VOR_FORTUNE ? 5 : 2));
         print_message("%s: %ld allocations, each failed once\n",
                       vor_algorithm_name((vor_algorithm)a), count);
     }
