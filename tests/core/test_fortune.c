@@ -2085,7 +2085,7 @@ static void test_alloc_failures(void **state) {
     assert_int_equal(st, VOR_OK);
     vor_diagram_free(d);
     print_message("allocations: %ld\n", count);
-    int tolerated = 0;
+    int tolerated = 0, in_room = 0;
     long room = -1;
     for (long k = 0; k < count; k++) {
         fault_arm(k);
@@ -2099,7 +2099,10 @@ static void test_alloc_failures(void **state) {
              * shrinking reallocs of the cocircular conversion
              * (vor__mesh_to_diagram) */
             if (room < 0) room = k;
-            tolerated++;
+            if (k - room < 3)
+                in_room++;
+            else
+                tolerated++;
             assert_true(vor_diagram_equal(d, want));
             vor_diagram_free(d);
             continue;
@@ -2107,22 +2110,27 @@ static void test_alloc_failures(void **state) {
         assert_int_equal(st, VOR_ENOMEM);
         assert_null(d);
     }
-    assert_true(tolerated <= 5);
-    /* Without the room taken at once: each allocation of the small
-     * arrays and their doubling fails in turn. */
+    /* the room's three blocks (arcs, colours, records) come one after
+     * another, and each one refused makes the sweep start small */
     assert_true(room >= 0);
+    assert_int_equal(in_room, 3);
+    assert_true(tolerated <= 2);
+    /* Without the room taken at once: each allocation of the small
+     * arrays and their doubling fails in turn, and only the conversion's
+     * shrinking reallocs may fail without harm. */
     fault_arm(room);
     assert_int_equal(vor__fortune(s, &d), VOR_OK);
     long count_small = fault_seen;
     fault_disarm();
     vor_diagram_free(d);
-    int failed = 0;
+    int failed = 0, harmless = 0;
     for (long k = room + 1; k < count_small; k++) {
         fault_arm_two(room, k);
         d = (vor_diagram *)1;
         st = vor__fortune(s, &d);
         fault_disarm();
         if (st == VOR_OK) {
+            harmless++;
             assert_true(vor_diagram_equal(d, want));
             vor_diagram_free(d);
             continue;
@@ -2134,7 +2142,7 @@ static void test_alloc_failures(void **state) {
     print_message("allocations with small arrays: %ld, of which %d fail "
                   "the sweep\n", count_small, failed);
     assert_true(count_small > count);
-    assert_true(failed >= (int)(count_small - count));
+    assert_true(harmless <= 2);
     assert_int_equal(vor__fortune(s, &d), VOR_OK);
     assert_true(vor_diagram_equal(d, want));
     vor_diagram_free(d);
