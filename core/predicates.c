@@ -24,7 +24,12 @@
  *      |input| < 2^hi) is at most 1074/k: 537 for orient2d (k = 2), 268
  *      for incircle (k = 4). The largest values stay below 2^16: no
  *      overflow.
- *   3. Otherwise (one call mixing, say, 1e300 and 1e-300): integers. Every
+ *   3. Otherwise (one call mixing, say, 1e300 and 1e-300): first the
+ *      filter once more, on the points scaled so that the largest is below
+ *      1 and rounded where the smallest fall below 2^-1074, with a bound
+ *      widened by what that rounding can move the determinant (see "wide
+ *      calls"): most such calls are far from degenerate and end here. Then
+ *      integers. Every
  *      input becomes the integer x / 2^lo (at most 2098 bits) and the
  *      determinant is computed with GMP's mpn layer on fixed-size arrays on
  *      the stack. mpn does not allocate for these sizes, so this stage, like
@@ -449,8 +454,9 @@ static int incircle_big(const double *a, const double *b, const double *c,
 
 /* ---- Stage 2: rescaling and expansions ----------------------------------- */
 
-/* Copies n coordinates into out, multiplied by 2^s (exact: the callers
- * ensure no result leaves the representable range). */
+/* Copies n coordinates into out, multiplied by 2^s: exactly where the
+ * callers ensure no result leaves the representable range, rounded to
+ * the nearest multiple of 2^-1074 otherwise (wide calls, below). */
 static void rescale(const double *const *pts, int npts, int s, double *out) {
     for (int i = 0; i < npts; i++) {
         out[2 * i] = s ? ldexp(pts[i][0], s) : pts[i][0];
@@ -467,6 +473,39 @@ static int choose_scale(int hi, int lo, int k) {
     if (k * lo >= -1074 && k * (hi + 1) + 16 <= 1023)
         return 0;
     return -hi;
+}
+
+/* Wide calls. A call whose operands span more bits than stage 2 takes
+ * (1e300 beside 1e-300; 2^500 beside points near 1, whose products with
+ * the near ones underflow) is seldom near a degeneracy: the filter failed
+ * because a product overflowed, or because underflow could have lost more
+ * than its bound allows. Scaled by 2^-hi, every |operand| is below 1, and
+ * rounded to a multiple of 2^-1074 (ldexp rounds correctly), it moves by at
+ * most d = 2^-1075. Every coordinate difference then moves by at most 2d
+ * and stays below 2 in magnitude, so the determinant, a sum of monomials
+ * in the differences with coefficients of 1, moves by at most: orient2d,
+ * 2 monomials of degree 2, 2 * 2 * 2 * 2d = 16 d; incircle, 12 monomials
+ * of degree 4, 12 * 4 * 2^3 * 2d = 768 d; both below 2^-1064 (second-order
+ * terms included). The filter on the rounded points, with 2^-1000 added to
+ * its bound, thus proves the sign of the scaled points' exact determinant,
+ * which is the original's times a power of two. Only the calls it cannot
+ * decide go on to the integers. */
+#define WIDE_SLACK 0x1p-1000
+
+static int orient2d_wide(const double *a, const double *b, const double *c,
+                         int hi) {
+    const double *pts[3] = {a, b, c};
+    double w[6];
+    rescale(pts, 3, -hi, w);
+    return vor__orient2d_filter_slack(w, w + 2, w + 4, WIDE_SLACK);
+}
+
+static int incircle_wide(const double *a, const double *b, const double *c,
+                         const double *d, int hi) {
+    const double *pts[4] = {a, b, c, d};
+    double w[8];
+    rescale(pts, 4, -hi, w);
+    return vor__incircle_filter_slack(w, w + 2, w + 4, w + 6, WIDE_SLACK);
 }
 
 /* orient2d(a, b, c) = (a - c) x (b - c) of rescaled points, exactly, as an
@@ -502,8 +541,10 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
     int hi, lo;
     if (!operand_range(v, 6, &hi, &lo))
         return 0;
-    if (hi - lo > 537)
-        return orient2d_big(a, b, c, lo);
+    if (hi - lo > 537) {
+        int f = orient2d_wide(a, b, c, hi);
+        return f ? f : orient2d_big(a, b, c, lo);
+    }
 
     const double *pts[3] = {a, b, c};
     double w[6];
@@ -688,8 +729,10 @@ int vor__incircle_exact(const double *a, const double *b, const double *c,
     int hi, lo;
     if (!operand_range(v, 8, &hi, &lo))
         return 0;
-    if (hi - lo > 268)
-        return incircle_big(a, b, c, d, lo);
+    if (hi - lo > 268) {
+        int f = incircle_wide(a, b, c, d, hi);
+        return f ? f : incircle_big(a, b, c, d, lo);
+    }
 
     const double *pts[4] = {a, b, c, d};
     double w[8];

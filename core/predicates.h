@@ -112,26 +112,41 @@ int vor__incircle_exact(const double *a, const double *b, const double *c,
 long double vor__orient2d_value(const double *a, const double *b,
                                 const double *c);
 
-/* Sign of orient2d from the filter alone: +1 or -1 when proven, 0 when the
- * filter cannot decide (0 says nothing about collinearity). */
-static inline int vor__orient2d_filter(const double *a, const double *b,
-                                       const double *c) {
+/* The filter of orient2d with an absolute term added to its bound: it
+ * decides only where |det| exceeds the bound by slack as well. slack = 0
+ * is the filter itself (the term is then compiled away); the exact
+ * routines pass a slack for points moved by a rounding (predicates.c,
+ * "wide calls"). */
+static inline int vor__orient2d_filter_slack(const double *a,
+                                             const double *b,
+                                             const double *c, double slack) {
     double acx = a[0] - c[0], bcx = b[0] - c[0];
     double acy = a[1] - c[1], bcy = b[1] - c[1];
     double l = acx * bcy, r = acy * bcx;
     double det = l - r;
     double sum = fabs(l) + fabs(r);
     double bound = VOR__CCW_BOUND * sum;
+    if (slack != 0)
+        bound += slack;
     /* Without branches on the sign, which is unpredictable: inf and nan
      * make both comparisons false (bound is inf or nan). */
     int s = (det > bound) - (det < -bound);
     return sum >= VOR__CCW_MIN ? s : 0;
 }
 
-/* Sign of incircle from the filter alone: +1 or -1 when proven, 0 when the
- * filter cannot decide. */
-static inline int vor__incircle_filter(const double *a, const double *b,
-                                       const double *c, const double *d) {
+/* Sign of orient2d from the filter alone: +1 or -1 when proven, 0 when the
+ * filter cannot decide (0 says nothing about collinearity). */
+static inline int vor__orient2d_filter(const double *a, const double *b,
+                                       const double *c) {
+    return vor__orient2d_filter_slack(a, b, c, 0);
+}
+
+/* The filter of incircle with an absolute term added to its bound, as
+ * vor__orient2d_filter_slack. */
+static inline int vor__incircle_filter_slack(const double *a,
+                                             const double *b,
+                                             const double *c,
+                                             const double *d, double slack) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
@@ -147,10 +162,19 @@ static inline int vor__incircle_filter(const double *a, const double *b,
     double pc = fabs(adxbdy) + fabs(bdxady);
     double perm = pa * alift + pb * blift + pc * clift;
     double bound = VOR__ICC_BOUND * perm;
+    if (slack != 0)
+        bound += slack;
     /* underflow guard; inf and nan fail it or the comparisons */
     double under = (alift + blift + clift) + (pa + pb + pc) + 4.0;
     int s = (det > bound) - (det < -bound);
     return under <= perm * VOR__ICC_UNDER ? s : 0;
+}
+
+/* Sign of incircle from the filter alone: +1 or -1 when proven, 0 when the
+ * filter cannot decide. */
+static inline int vor__incircle_filter(const double *a, const double *b,
+                                       const double *c, const double *d) {
+    return vor__incircle_filter_slack(a, b, c, d, 0);
 }
 
 /* Exact orient2d with the filter inlined; see vor_orient2d. */

@@ -497,6 +497,50 @@ static void test_wide_dynamic_range(void **state) {
     }
 }
 
+/* ---- (d'') wide calls near a degeneracy ---------------------------------- */
+
+/* A wide call (operands spanning more bits than the expansions hold) is
+ * first tried by the filter on its points scaled below 1 and rounded to
+ * multiples of 2^-1074 (predicates.c, "wide calls"); only what rounding
+ * cannot have decided goes on to the integers. Here huge points lie
+ * exactly on a line or a circle through the origin and a tiny point sits
+ * on it, beside it or across it, so that rounding the tiny point away
+ * leaves a determinant of zero or of a rounding's size; and points at many
+ * scales at once, x = r 2^k for k in [-500, 500) beside y in [0, 1) (a set
+ * spread over hundreds of decades), whose calls are mostly wide and far
+ * from degenerate. All against the oracle. */
+static void test_wide_near_degenerate(void **state) {
+    (void)state;
+    int on = 0;
+    for (int k = 0; k < 20000; k++) {
+        double h = ldexp(1, 300 + rng_int(700));
+        double t = ldexp(1, -600 - rng_int(475));
+        double u = (double)(rng_int(7) - 3), v = (double)(rng_int(7) - 3);
+        double p = (double)(rng_int(7) - 3), q = (double)(rng_int(7) - 3);
+        if (u == 0 && v == 0)
+            u = 1;
+        /* a line through the origin, direction (u, v) */
+        double a[2] = {u * h, v * h}, b[2] = {-u * h, -v * h};
+        double c[2] = {p * t, q * t};
+        on += check_orient(a, b, c) == 0;
+        check_orient(a, c, b);
+        /* the circle of centre (h, 0) through the origin */
+        double e[2] = {2 * h, 0}, f[2] = {h, h}, g[2] = {h, -h};
+        on += check_incircle(e, f, g, c) == 0;
+        check_incircle(c, e, f, g);
+        /* many scales at once */
+        double m[4][2];
+        for (int i = 0; i < 4; i++) {
+            m[i][0] = ldexp(rng_unit(), rng_int(1000) - 500);
+            m[i][1] = rng_int(4) ? rng_unit() : ldexp(rng_unit(), -rng_int(1000));
+        }
+        check_orient(m[0], m[1], m[2]);
+        check_incircle(m[0], m[1], m[2], m[3]);
+    }
+    printf("# wide calls: %d exactly on the line or circle\n", on);
+    assert_true(on > 1000);
+}
+
 /* ---- (e') integer lattices near degeneracy ------------------------------- */
 
 static double naive_incircle(const double *a, const double *b, const double *c,
@@ -915,6 +959,7 @@ int main(void) {
         cmocka_unit_test(test_mixed_magnitudes),
         cmocka_unit_test(test_incircle_axis_rectangles),
         cmocka_unit_test(test_wide_dynamic_range),
+        cmocka_unit_test(test_wide_near_degenerate),
         cmocka_unit_test(test_exact_constructions),
         cmocka_unit_test(test_integer_lattices),
         cmocka_unit_test(test_random_bulk),
