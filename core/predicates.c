@@ -10,7 +10,10 @@
  *      rescaled points. Small lattices (every coordinate a multiple of 2^lo
  *      and every difference below 2^(lo + 26) for orient2d, 2^(lo + 12) for
  *      incircle: grids, integer input) are then decided by the plain double
- *      evaluation, which is exact for them. Otherwise the determinant is
+ *      evaluation, which is exact for them. incircle then tries a
+ *      double-double evaluation (stage 2a), and operands within 61 bits of
+ *      each other an exact one in 256-bit integers (stage 2b: sites
+ *      exactly on one circle). Otherwise the determinant is
  *      evaluated exactly as a floating-point expansion: a sum of
  *      non-overlapping doubles ordered by increasing magnitude whose sign
  *      is the sign of the largest component. Differences are exact
@@ -708,6 +711,82 @@ static int incircle_dd(const double *a, const double *b, const double *c,
     return (det.hi > bound) - (det.hi < -bound);
 }
 
+/* ---- Stage 2b: incircle in 256-bit integers -----------------------------
+ *
+ * What the double-double evaluation leaves are mostly four sites exactly
+ * on one circle (a rotated grid's squares, whose determinant is 0), which
+ * only an exact evaluation settles: the expansions below take about a
+ * microsecond for them. When the call's operands span at most 61 bits
+ * (hi - lo <= 61: every coordinate an integer multiple of 2^lo below
+ * 2^61 of it, as for any points within a few binary orders of magnitude
+ * of each other and away from the origin), the determinant in units of
+ * 2^(4 lo) is an integer, computed here exactly in a few dozen integer
+ * operations: the differences below 2^62 (int64), their products and the
+ * lifts and cross terms below 2^125 (int128), each row's product below
+ * 2^250 and the sum of the three below 2^252, in four 64-bit words in
+ * two's complement. */
+#define INT_SPAN 61
+
+__extension__ typedef __int128 i128;
+__extension__ typedef unsigned __int128 u128;
+
+/* r += sign * a * b for 0 <= a, b < 2^127 (sign +1 or -1); r holds a
+ * 256-bit two's complement value. */
+static void acc_mul(uint64_t r[4], u128 a, u128 b, int sign) {
+    uint64_t a0 = (uint64_t)a, a1 = (uint64_t)(a >> 64);
+    uint64_t b0 = (uint64_t)b, b1 = (uint64_t)(b >> 64);
+    u128 p00 = (u128)a0 * b0, p01 = (u128)a0 * b1;
+    u128 p10 = (u128)a1 * b0, p11 = (u128)a1 * b1;
+    u128 mid = (p00 >> 64) + (uint64_t)p01 + (uint64_t)p10;
+    u128 top = p11 + (p01 >> 64) + (p10 >> 64) + (mid >> 64);
+    uint64_t t[4] = {(uint64_t)p00, (uint64_t)mid, (uint64_t)top,
+                     (uint64_t)(top >> 64)};
+    if (sign < 0) { /* two's complement: invert, add 1 */
+        unsigned carry = 1;
+        for (int i = 0; i < 4; i++) {
+            t[i] = ~t[i] + carry;
+            carry = carry && t[i] == 0;
+        }
+    }
+    unsigned carry = 0;
+    for (int i = 0; i < 4; i++) {
+        uint64_t x = r[i] + t[i];
+        unsigned c1 = x < r[i];
+        r[i] = x + carry;
+        carry = c1 | (r[i] < x);
+    }
+}
+
+/* One row: lift(p) * (qx ry - rx qy), added to r. */
+static void incircle_row_int(uint64_t r[4], int64_t px, int64_t py,
+                             int64_t qx, int64_t qy, int64_t rx, int64_t ry) {
+    u128 lift = (u128)((i128)px * px) + (u128)((i128)py * py);
+    i128 cross = (i128)qx * ry - (i128)rx * qy;
+    if (cross != 0)
+        acc_mul(r, lift, (u128)(cross < 0 ? -cross : cross),
+                cross < 0 ? -1 : 1);
+}
+
+/* Sign of incircle for operands spanning at most INT_SPAN bits from 2^lo
+ * (the caller checks hi - lo <= INT_SPAN). */
+static int incircle_int(const double *a, const double *b, const double *c,
+                        const double *d, int lo) {
+    const double *pts[4] = {a, b, c, d};
+    int64_t v[8];
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 2; j++) /* exact: an integer below 2^61 */
+            v[2 * i + j] = (int64_t)ldexp(pts[i][j], -lo);
+    int64_t ax = v[0] - v[6], ay = v[1] - v[7], bx = v[2] - v[6];
+    int64_t by = v[3] - v[7], cx = v[4] - v[6], cy = v[5] - v[7];
+    uint64_t r[4] = {0, 0, 0, 0};
+    incircle_row_int(r, ax, ay, bx, by, cx, cy);
+    incircle_row_int(r, bx, by, cx, cy, ax, ay);
+    incircle_row_int(r, cx, cy, ax, ay, bx, by);
+    if (r[3] >> 63)
+        return -1;
+    return (r[0] | r[1] | r[2] | r[3]) != 0;
+}
+
 /* 1 if the four values are two pairs of equal values, in any order. */
 static inline int two_pairs(double a, double b, double c, double d) {
     return (a == b && c == d) || (a == c && b == d) || (a == d && b == c);
@@ -767,6 +846,8 @@ int vor__incircle_exact(const double *a, const double *b, const double *c,
     int f = incircle_dd(sa, sb, sc, sd);
     if (f)
         return f;
+    if (hi - lo <= INT_SPAN)
+        return incircle_int(a, b, c, d, lo);
 
     double ax[2], ay[2], bx[2], by[2], cx[2], cy[2];
     int nax = exp_diff(sa[0], sd[0], ax), nay = exp_diff(sa[1], sd[1], ay);

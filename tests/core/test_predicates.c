@@ -497,6 +497,37 @@ static void test_wide_dynamic_range(void **state) {
     }
 }
 
+/* ---- (d) squares of a rotated grid ----------------------------------------- */
+
+/* The corners of a grid's square turned by an angle, each computed in
+ * doubles: the rounding leaves many squares exactly cocircular and the
+ * rest within a few units of the last place of it, beyond what the
+ * double-double evaluation decides; the exact stages (integers for
+ * operands within 61 bits of each other, expansions otherwise) settle
+ * them. Squares near the origin and far from it, and with one corner
+ * moved by an ulp. */
+static void test_rotated_grid(void **state) {
+    (void)state;
+    int zeros = 0;
+    for (int k = 0; k < 40000; k++) {
+        double th = rng_unit() * 1.5, co = cos(th), si = sin(th);
+        double step = ldexp(1 + rng_unit(), rng_int(40) - 20);
+        int i = rng_int(2000) - (k % 3 == 0 ? 1000 : 0), j = rng_int(2000);
+        double p[4][2];
+        for (int q = 0; q < 4; q++) {
+            double u = (i + (q & 1)) * step, v = (j + (q >> 1)) * step;
+            p[q][0] = u * co - v * si;
+            p[q][1] = u * si + v * co;
+        }
+        if (k % 7 == 0)
+            p[rng_int(4)][rng_int(2)] = nextafter(p[3][0], INFINITY);
+        zeros += check_incircle(p[0], p[1], p[3], p[2]) == 0;
+        check_incircle(p[3], p[0], p[1], p[2]);
+    }
+    printf("# rotated grid: %d squares exactly cocircular\n", zeros);
+    assert_true(zeros > 1000);
+}
+
 /* ---- (d'') wide calls near a degeneracy ---------------------------------- */
 
 /* A wide call (operands spanning more bits than the expansions hold) is
@@ -960,6 +991,7 @@ int main(void) {
         cmocka_unit_test(test_incircle_axis_rectangles),
         cmocka_unit_test(test_wide_dynamic_range),
         cmocka_unit_test(test_wide_near_degenerate),
+        cmocka_unit_test(test_rotated_grid),
         cmocka_unit_test(test_exact_constructions),
         cmocka_unit_test(test_integer_lattices),
         cmocka_unit_test(test_random_bulk),
