@@ -19,6 +19,7 @@
  *   - n <= 30: the whole diagram equals the one vor__diagram_build makes
  *     from the O(n^4) oracle of oracle_voronoi.h.
  */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -369,13 +370,14 @@ static void test_standard_sets(void **state) {
 
 /* Small random sets of several kinds: uniform, small integer lattices (many
  * cocircular and collinear subsets), rows of equal y, integer circles, a
- * circle with its centre, duplicates, tiny and huge scales. */
+ * circle with its centre, duplicates, tiny and huge scales, x over a
+ * thousand binary orders of magnitude, a turned grid. */
 static double *random_set(uint64_t seed, size_t *n, const char **kind) {
     vt_rng r = {seed};
     *n = 3 + (size_t)(vt_next(&r) % 48);
     double *xy = malloc(2 * *n * sizeof *xy);
     assert_non_null(xy);
-    switch (seed % 7) {
+    switch (seed % 9) {
     case 0:
         *kind = "uniform";
         for (size_t i = 0; i < 2 * *n; i++) xy[i] = vt_unit(&r);
@@ -415,6 +417,25 @@ static double *random_set(uint64_t seed, size_t *n, const char **kind) {
         *kind = "tiny";
         for (size_t i = 0; i < 2 * *n; i++) xy[i] = (double)(vt_next(&r) % 16) * 1e-300;
         break;
+    case 7: /* x at many scales, 2^-500 to 2^500, beside y in [0, 1):
+             * calls over more bits than the expansions hold */
+        *kind = "many-scales";
+        for (size_t i = 0; i < *n; i++) {
+            xy[2 * i] = ldexp(vt_unit(&r), (int)(vt_next(&r) % 1000) - 500);
+            xy[2 * i + 1] = vt_unit(&r);
+        }
+        break;
+    case 8: { /* a grid turned by an angle, in doubles: squares exactly
+               * cocircular or off by the rounding */
+        *kind = "turned-grid";
+        double th = 0.1 + vt_unit(&r), co = cos(th), si = sin(th);
+        for (size_t i = 0; i < *n; i++) {
+            double u = (double)(vt_next(&r) % 6), v = (double)(vt_next(&r) % 6);
+            xy[2 * i] = 40 + u * co - v * si;
+            xy[2 * i + 1] = 40 + u * si + v * co;
+        }
+        break;
+    }
     default:
         *kind = "huge-offset";
         for (size_t i = 0; i < *n; i++) {
@@ -428,7 +449,7 @@ static double *random_set(uint64_t seed, size_t *n, const char **kind) {
 
 static void test_random_small(void **state) {
     (void)state;
-    const uint64_t seed0 = 1000, count = 700;
+    const uint64_t seed0 = 1000, count = 900;
     printf("random small sets: seeds %llu..%llu (only failures are listed)\n",
            (unsigned long long)seed0, (unsigned long long)(seed0 + count - 1));
     int failed = 0;
