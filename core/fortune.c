@@ -202,6 +202,7 @@ typedef struct sweep {
      * often lately the next site fell in one of them (see locate_near) */
     uint32_t finger[2];
     uint32_t finger_score;
+    int list_only; /* no site left: arcs leave the list, not the tree */
 
     /* The event queue (see "Event queue"): n_heap live events in the
      * heap, n_bucketed in the buckets (while bhead is set), n_late in
@@ -1110,6 +1111,12 @@ static void remove_arc(sweep *w, uint32_t z) {
         ARC(nz).lxy[0] = ARC(z).lxy[0];
         ARC(nz).lxy[1] = ARC(z).lxy[1];
     }
+    /* With no site left, nothing searches the tree again: the events
+     * left (all of them for sites in convex position below their
+     * circles' tops, a parabola's say) take the arc off the list alone,
+     * without the rebalancing's reads of its parent and sibling (6% of
+     * the sweep on 10^5 sites on a parabola). */
+    if (w->list_only) return;
 
     uint32_t y = z, x;
     int y_red = RED(y);
@@ -2397,6 +2404,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
                 late_flush(w);
             }
         }
+        w->list_only = i == n;
         if (q_size(w) > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
             const event *e = i == n ? q_top(w) : &w->heap[0];
