@@ -235,10 +235,7 @@ static int big_diffs(big *out, const double *v, int k) {
  * dozen bits, 64- and 128-bit integer arithmetic decides them at a few
  * nanoseconds instead of the microsecond the limb arrays cost. */
 
-/* 128-bit integers (a GCC and Clang extension, on every 64-bit target
- * they support). */
-__extension__ typedef __int128 i128;
-__extension__ typedef unsigned __int128 u128;
+/* 128-bit integers: i128 and u128 (internal.h). */
 
 /* The exponent of the lowest set bit of the nonzero normal double d, or
  * INT32_MIN for a subnormal (not handled here). */

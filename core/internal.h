@@ -21,6 +21,12 @@
 
 #include "vor.h"
 
+/* 128-bit integers (a GCC and Clang extension, on every 64-bit target they
+ * support): the integer stages of the exact predicates (predicates.c,
+ * fortune_predicates.c). */
+__extension__ typedef __int128 i128;
+__extension__ typedef unsigned __int128 u128;
+
 /* ---- Fused multiply-add ----------------------------------------------------
  * The error-free product of two doubles and the double-double arithmetic
  * of the predicates' second stages are built on fma(). x86-64's baseline

@@ -727,9 +727,6 @@ static int incircle_dd(const double *a, const double *b, const double *c,
  * two's complement. */
 #define INT_SPAN 61
 
-__extension__ typedef __int128 i128;
-__extension__ typedef unsigned __int128 u128;
-
 /* r += sign * a * b for 0 <= a, b < 2^127 (sign +1 or -1); r holds a
  * 256-bit two's complement value. */
 static void acc_mul(uint64_t r[4], u128 a, u128 b, int sign) {
