@@ -620,7 +620,7 @@ static double orient_refined(const double *a, const double *b,
                              const double *c, int e, double bx, double by,
                              double cx, double cy, double l, double r,
                              double *ed) {
-    double sc = ldexp(1.0, -e);
+    double sc = e ? ldexp(1.0, -e) : 1.0; /* ldexp is a call */
     double ebx = diff_err(b[0], a[0]) * sc, eby = diff_err(b[1], a[1]) * sc;
     double ecx = diff_err(c[0], a[0]) * sc, ecy = diff_err(c[1], a[1]) * sc;
     double d1 = fma(bx, cy, -r) + fma(-by, cx, r);
