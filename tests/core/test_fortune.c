@@ -1503,12 +1503,14 @@ static void check_sweep_order(const char *name, const double *xy, size_t n) {
 
 /* Hexagonal lattices in doubles (spacing 0.1: x = 0.1 i, shifted by half
  * a step on odd rows, y = 0.1 j sqrt(3) / 2, each rounded): most of
- * their triangles are translates of one another with exact differences,
- * whose ties the sweep decides by the triangles' shapes once it has seen
- * them decide ties (event_shape), the others by the bounds; with their x
- * moved by an ulp here and there, and with a row of sites missing, fewer
- * are translates. Against brute force and the other algorithms, and the
- * order of the events against the exact tops. */
+ * their triangles are translates of one another, or mirror images moved,
+ * with exact differences, whose ties the sweep decides by the triangles'
+ * shapes once it has seen them decide ties (event_shape), the others by
+ * the bounds; with their x moved by an ulp here and there, and with a
+ * row of sites missing, fewer are. Rows 2^-60 apart make ties of tops
+ * that differ by less than the bounds resolve. Against brute force and
+ * the other algorithms, and the order of the events against the exact
+ * tops. */
 static void test_hex_doubles(void **state) {
     (void)state;
     vt_rng r = {41};
