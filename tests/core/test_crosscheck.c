@@ -371,13 +371,14 @@ static void test_standard_sets(void **state) {
 /* Small random sets of several kinds: uniform, small integer lattices (many
  * cocircular and collinear subsets), rows of equal y, integer circles, a
  * circle with its centre, duplicates, tiny and huge scales, x over a
- * thousand binary orders of magnitude, a turned grid. */
+ * thousand binary orders of magnitude, a turned grid, a hexagonal lattice
+ * in doubles. */
 static double *random_set(uint64_t seed, size_t *n, const char **kind) {
     vt_rng r = {seed};
     *n = 3 + (size_t)(vt_next(&r) % 48);
     double *xy = malloc(2 * *n * sizeof *xy);
     assert_non_null(xy);
-    switch (seed % 9) {
+    switch (seed % 10) {
     case 0:
         *kind = "uniform";
         for (size_t i = 0; i < 2 * *n; i++) xy[i] = vt_unit(&r);
@@ -436,6 +437,25 @@ static double *random_set(uint64_t seed, size_t *n, const char **kind) {
         }
         break;
     }
+    case 9: { /* a hexagonal lattice of a random spacing in doubles, with
+               * holes: its cells are translates and mirror images of one
+               * another, rounded alike or not (Fortune's event shapes) */
+        *kind = "hex-doubles";
+        double h = 0.05 + vt_unit(&r) / 4, x0 = vt_unit(&r) * 7;
+        size_t w = 9 + (size_t)(vt_next(&r) % 6), k = 0;
+        free(xy);
+        xy = malloc(2 * w * w * sizeof *xy);
+        assert_non_null(xy);
+        for (size_t j = 0; j < w; j++)
+            for (size_t i = 0; i < w; i++) {
+                if (vt_next(&r) % 8 == 0) continue;
+                xy[2 * k] = x0 + h * ((double)i + 0.5 * (double)(j % 2));
+                xy[2 * k + 1] = h * (double)j * 0.8660254037844386;
+                k++;
+            }
+        *n = k;
+        break;
+    }
     default:
         *kind = "huge-offset";
         for (size_t i = 0; i < *n; i++) {
@@ -449,7 +469,7 @@ static double *random_set(uint64_t seed, size_t *n, const char **kind) {
 
 static void test_random_small(void **state) {
     (void)state;
-    const uint64_t seed0 = 1000, count = 900;
+    const uint64_t seed0 = 1000, count = 1000;
     printf("random small sets: seeds %llu..%llu (only failures are listed)\n",
            (unsigned long long)seed0, (unsigned long long)(seed0 + count - 1));
     int failed = 0;
