@@ -225,7 +225,7 @@ typedef struct sweep {
     double ylast;   /* the last site's y */
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     double *boxes; /* 4 per record: see event_box() */
-    double *shapes; /* 12 per record: see event_shape(), apart */
+    double *shapes; /* VOR__FORTUNE_SHAPE per record: see event_shape() */
     uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
     void *rec_block; /* the one allocation behind the per-record arrays */
@@ -1388,8 +1388,6 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
 
 /* ---- Event records and the heap ------------------------------------------ */
 
-#define SHAPE_WORDS 12 /* per record: see event_shape() */
-
 /* Gives the per-record arrays room for cap records, in one allocation
  * (most inputs are small, and their sweeps then cost one malloc for all of
  * it) and the shapes' apart, keeping the n_recs records there are. -1 if
@@ -1400,7 +1398,8 @@ static int recs_resize(sweep *w, uint32_t cap) {
     size_t bytes = c * (10 * sizeof(double) + 2 * sizeof(event) +
                         sizeof(evrec) + 5 * sizeof(uint32_t) + 1);
     char *p = malloc(bytes);
-    double *shapes = malloc(SHAPE_WORDS * c * sizeof *shapes); /* event_shape */
+    /* apart: see event_shape */
+    double *shapes = malloc(VOR__FORTUNE_SHAPE * c * sizeof *shapes);
     if (!p || !shapes) {
         free(p);
         free(shapes);
@@ -1418,7 +1417,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     if (k) {
         memcpy(cache, w->cache, 6 * k * sizeof *cache);
         memcpy(boxes, w->boxes, 4 * k * sizeof *boxes);
-        memcpy(shapes, w->shapes, SHAPE_WORDS * k * sizeof *shapes);
+        memcpy(shapes, w->shapes, VOR__FORTUNE_SHAPE * k * sizeof *shapes);
         memcpy(heap, w->heap, k * sizeof *heap);
         memcpy(ekey, w->ekey, k * sizeof *ekey);
         memcpy(recs, w->recs, k * sizeof *recs);
@@ -1599,96 +1598,28 @@ static const double *event_box(sweep *w, uint32_t r) {
     return w->known[r] & IS_BOX ? w->boxes + 4 * (size_t)r : NULL;
 }
 
-/* d = a - b, 1 if exactly (the error term of the two-sum is 0; an
- * overflow leaves a NaN there, which is not). */
-static inline int exact_diff(double a, double b, double *d) {
-    double x = a - b, bv = a - x, av = x + bv;
-    *d = x;
-    return (a - av) + (bv - b) == 0;
-}
-
-/* Record r's shape, or NULL if its triple has none: its first site in
- * sweep order (least y, then least x) and the other two's differences
- * from it, in the triple's cyclic order, when all four are exact in
- * doubles (v[0..5]). Two events of one shape are one triangle moved by
- * the vector between their first sites, whose y orders their tops and,
- * at one y, whose x their centres: what vor__fortune_translate_cmp proves
- * with two-sums of six sites at every comparison, here two records
- * compared. With it, the same differences of the triple's mirror image
- * (x negated, the order reversed; its first site the one of least y,
- * then greatest x), or NaN where they are not exact (v[6..9]); and for
- * a triple with two sites of one y, the sum of their x (twice the
- * centre's x) as a two-sum, or NaN (v[10..11]): a triangle mirrored and
- * moved has its top moved by the vector's y, and at one y the centres
- * compare by those sums (translate_cmp's second case). Found on first
- * use, like the other knowledge of ties; in an array of its own (in the
- * record block it made it too big for the C library to keep for the
- * next sweep of 10^5 sites, whose circle then ran 8% slower). */
+/* Record r's shape (vor__fortune_shape_of), or NULL if its triple has
+ * none: found on first use, like the other knowledge of ties, and kept in
+ * an array of its own (in the record block it made the block too big for
+ * the C library to keep for the next sweep of 10^5 sites, whose circle
+ * then ran 8% slower). Two records of one shape, or of one shape and its
+ * mirror image, compare without reading a site (shape_try). */
 static const double *event_shape(sweep *w, uint32_t r) {
-    double *v = w->shapes + SHAPE_WORDS * (size_t)r;
+    double *v = w->shapes + VOR__FORTUNE_SHAPE * (size_t)r;
     if (!(w->known[r] & KNOWN_SHAPE)) {
         w->known[r] |= KNOWN_SHAPE;
         const uint32_t *t = w->recs[r].s;
-        const double *p[3] = {site_xy(w, t[0]), site_xy(w, t[1]),
-                              site_xy(w, t[2])};
-        int m = 0, mm = 0;
-        for (int k = 1; k < 3; k++) {
-            if (p[k][1] < p[m][1] || (p[k][1] == p[m][1] && p[k][0] < p[m][0]))
-                m = k;
-            if (p[k][1] < p[mm][1] ||
-                (p[k][1] == p[mm][1] && p[k][0] > p[mm][0]))
-                mm = k;
-        }
-        const double *o = p[m], *q1 = p[(m + 1) % 3], *q2 = p[(m + 2) % 3];
-        v[0] = o[0];
-        v[1] = o[1];
-        if (!(exact_diff(q1[0], o[0], &v[2]) & exact_diff(q1[1], o[1], &v[3]) &
-              exact_diff(q2[0], o[0], &v[4]) & exact_diff(q2[1], o[1], &v[5])))
-            return NULL;
-        w->known[r] |= HAS_SHAPE;
-        /* mirrored, the site after p[k] is p[k - 1] */
-        o = p[mm];
-        q1 = p[(mm + 2) % 3];
-        q2 = p[(mm + 1) % 3];
-        if (!(exact_diff(o[0], q1[0], &v[6]) & exact_diff(q1[1], o[1], &v[7]) &
-              exact_diff(o[0], q2[0], &v[8]) & exact_diff(q2[1], o[1], &v[9])))
-            v[6] = NAN;
-        v[10] = NAN;
-        for (int i = 0; i < 3; i++) {
-            const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
-            if (a[1] != b[1]) continue;
-            double s = a[0] + b[0], bb = s - a[0];
-            if (fabs(s) <= DBL_MAX) {
-                v[10] = s;
-                v[11] = (a[0] - (s - bb)) + (b[0] - bb);
-            }
-            break;
-        }
+        if (vor__fortune_shape_of(site_xy(w, t[0]), site_xy(w, t[1]),
+                                  site_xy(w, t[2]), v))
+            w->known[r] |= HAS_SHAPE;
     }
     return w->known[r] & HAS_SHAPE ? v : NULL;
 }
 
-/* The order of events r1, r2 when one is the other's triangle moved, or
- * mirrored and moved (see event_shape): 1 with *c the sign of top1 -
- * top2, or at one top of centre1.x - centre2.x; else 0. */
+/* The shapes' comparison of events r1, r2 (vor__fortune_shapes_cmp). */
 static int shape_cmp(sweep *w, uint32_t r1, uint32_t r2, int *c) {
     const double *u = event_shape(w, r1), *v;
-    if (!u || !(v = event_shape(w, r2))) return 0;
-    int dy = (u[1] > v[1]) - (u[1] < v[1]);
-    if (u[2] == v[2] && u[3] == v[3] && u[4] == v[4] && u[5] == v[5]) {
-        *c = dy ? dy : (u[0] > v[0]) - (u[0] < v[0]);
-        return 1;
-    }
-    if (!(u[2] == v[6] && u[3] == v[7] && u[4] == v[8] && u[5] == v[9]))
-        return 0;
-    if (dy) {
-        *c = dy;
-        return 1;
-    }
-    if (u[10] != u[10] || v[10] != v[10]) return 0; /* no level pair */
-    *c = u[10] != v[10] ? (u[10] > v[10]) - (u[10] < v[10])
-                        : (u[11] > v[11]) - (u[11] < v[11]);
-    return 1;
+    return u && (v = event_shape(w, r2)) && vor__fortune_shapes_cmp(u, v, c);
 }
 
 /* shape_cmp where it has lately decided ties: off a lattice, ahead of

@@ -1043,7 +1043,7 @@ static int moved(const double *const t1[3], const double *const t2[3],
  * equal coordinate k (their bisector holds the centre): the sum of their
  * other coordinates, p + q, as a two-sum; 0 if there are no such two
  * (k = 1: level sites give the centre's x; k = 0: a vertical pair its y). */
-static int pair_centre(const double *const t[3], int k, dd *sum) {
+static inline int pair_centre(const double *const t[3], int k, dd *sum) {
     int i = odd_one(t, k);
     if (i < 0) return 0;
     *sum = two_sum(t[(i + 1) % 3][1 - k], t[(i + 2) % 3][1 - k]);
@@ -1116,6 +1116,42 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
         return 1;
     }
     return 0;
+}
+
+/* *d = p - q, 1 if exactly (diff_err: an overflow leaves a NaN, not 0). */
+static inline int exact_sub(double p, double q, double *d) {
+    *d = p - q;
+    return diff_err(p, q) == 0;
+}
+
+int vor__fortune_shape_of(const double *a, const double *b, const double *c,
+                          double v[VOR__FORTUNE_SHAPE]) {
+    const double *t[3] = {a, b, c};
+    int m = first_of(t), mm = 0; /* mm: least y, then greatest x */
+    for (int k = 1; k < 3; k++)
+        if (t[k][1] < t[mm][1] || (t[k][1] == t[mm][1] && t[k][0] > t[mm][0]))
+            mm = k;
+    const double *o = t[m], *p = t[(m + 1) % 3], *q = t[(m + 2) % 3];
+    v[0] = o[0];
+    v[1] = o[1];
+    if (!(exact_sub(p[0], o[0], &v[2]) & exact_sub(p[1], o[1], &v[3]) &
+          exact_sub(q[0], o[0], &v[4]) & exact_sub(q[1], o[1], &v[5])))
+        return 0;
+    /* mirrored, x is negated and the site after t[k] is t[k - 1] */
+    o = t[mm];
+    p = t[(mm + 2) % 3];
+    q = t[(mm + 1) % 3];
+    if (!(exact_sub(o[0], p[0], &v[6]) & exact_sub(p[1], o[1], &v[7]) &
+          exact_sub(o[0], q[0], &v[8]) & exact_sub(q[1], o[1], &v[9])))
+        v[6] = NAN;
+    dd x;
+    if (pair_centre(t, 1, &x)) {
+        v[10] = x.hi;
+        v[11] = x.lo;
+    } else {
+        v[10] = NAN;
+    }
+    return 1;
 }
 
 /* A triangle with two level sites p, q and a third, v: the rows of the

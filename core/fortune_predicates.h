@@ -266,6 +266,45 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *b2, const double *c2, int safe,
                                int *res);
 
+/* vor__fortune_translate_cmp's first two cases in two steps, for callers
+ * that keep each event's shape (the comparison inline: a lattice's ties
+ * call it hundreds of thousands of times). 1 if the differences of the
+ * triple's other two sites (in its cyclic order) from its first in sweep
+ * order (least y, then least x) are exact in doubles, with v = {that
+ * site's x and y, the four differences, those of the mirror image (x
+ * negated, the cyclic order reversed, from its first site) or a NaN v[6]
+ * where they are not exact, the two-sum of the x of two sites of one y
+ * or a NaN v[10] where there are none}; else 0. Then the comparison of
+ * two such shapes u and v: 1 with *res what vor__fortune_circle_cmp_exact
+ * would return when one triangle is the other moved, or mirrored and
+ * moved with its top moved or with two level sites; else 0 (nothing is
+ * known then). */
+#define VOR__FORTUNE_SHAPE 12
+int vor__fortune_shape_of(const double *a, const double *b, const double *c,
+                          double v[VOR__FORTUNE_SHAPE]);
+static inline int vor__fortune_shapes_cmp(const double u[VOR__FORTUNE_SHAPE],
+                                          const double v[VOR__FORTUNE_SHAPE],
+                                          int *res) {
+    int dy = (u[1] > v[1]) - (u[1] < v[1]);
+    if (u[2] == v[2] && u[3] == v[3] && u[4] == v[4] && u[5] == v[5]) {
+        /* moved: translate_cmp's first case */
+        *res = dy ? dy : (u[0] > v[0]) - (u[0] < v[0]);
+        return 1;
+    }
+    if (!(u[2] == v[6] && u[3] == v[7] && u[4] == v[8] && u[5] == v[9]))
+        return 0;
+    /* mirrored and moved: its second case, where two level sites give
+     * the centres' x (a NaN sum: no level pair) */
+    if (dy) {
+        *res = dy;
+        return 1;
+    }
+    if (u[10] != u[10] || v[10] != v[10]) return 0;
+    *res = u[10] != v[10] ? (u[10] > v[10]) - (u[10] < v[10])
+                          : (u[11] > v[11]) - (u[11] < v[11]);
+    return 1;
+}
+
 /* Exact ties of level triangles. When each triple has two sites on one
  * row and the third on another, the same two rows for both, the level
  * pairs of equal width, and the third sites' offsets from the pairs'

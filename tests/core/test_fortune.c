@@ -1141,6 +1141,77 @@ static void test_turned_cmp(void **state) {
     assert_true(equal_tops > 1000);
 }
 
+/* Triangles of a decimal lattice in doubles (0.37 by 0.11, rounded), and
+ * the same moved by a lattice vector, or mirrored and moved, each
+ * rounded again (so that their differences from the first site are, or
+ * are not, the same doubles), beside unrelated triangles: whatever
+ * vor__fortune_shapes_cmp decides must be the exact order of the two
+ * events, tops then centres' x (what the sweep cannot see: two events of
+ * one top at different points commute), and agree with
+ * vor__fortune_translate_cmp where that decides too. */
+static void test_shape_cmp(void **state) {
+    (void)state;
+    vt_rng r = {4646};
+    print_message("shape_cmp: seed 4646\n");
+    int made[3] = {0, 0, 0}, decided[3] = {0, 0, 0}, equal_tops = 0;
+    int agreed = 0;
+    for (int it = 0; it < 30000; it++) {
+        /* sites 0.37 i, 0.11 j, each rounded once, as a grid computes
+         * them: a shape of offsets (di, dj) at (i1, j1) and at (i2, j2) */
+        int di[3], dj[3];
+        for (int a = 0; a < 3; a++) {
+            di[a] = (int)(vt_next(&r) % 5) - 2;
+            dj[a] = (int)(vt_next(&r) % 5) - 2;
+        }
+        int i1 = 2 + (int)(vt_next(&r) % 60), j1 = 2 + (int)(vt_next(&r) % 60);
+        int i2 = 2 + (int)(vt_next(&r) % 60),
+            j2 = vt_next(&r) % 2 ? j1 : 2 + (int)(vt_next(&r) % 60);
+        int kind = it % 3; /* moved, mirrored and moved, unrelated */
+        double t1[3][2], t2[3][2];
+        for (int a = 0; a < 3; a++) {
+            t1[a][0] = 0.37 * (double)(i1 + di[a]);
+            t1[a][1] = 0.11 * (double)(j1 + dj[a]);
+            int b = kind == 1 ? 2 - a : a; /* reversed: counter-clockwise */
+            int ei = kind == 2 ? (int)(vt_next(&r) % 5) - 2
+                     : kind == 1 ? -di[b] : di[b];
+            int ej = kind == 2 ? (int)(vt_next(&r) % 5) - 2 : dj[b];
+            t2[a][0] = 0.37 * (double)(i2 + ei);
+            t2[a][1] = 0.11 * (double)(j2 + ej);
+        }
+        if (vor_orient2d(t1[0], t1[1], t1[2]) <= 0 ||
+            (kind < 2 && vor_orient2d(t2[0], t2[1], t2[2]) <= 0) ||
+            (kind == 2 && !make_ccw(t2)))
+            continue;
+        made[kind]++;
+        double u[VOR__FORTUNE_SHAPE], v[VOR__FORTUNE_SHAPE];
+        int res, tres;
+        if (!vor__fortune_shape_of(t1[0], t1[1], t1[2], u) ||
+            !vor__fortune_shape_of(t2[0], t2[1], t2[2], v) ||
+            !vor__fortune_shapes_cmp(u, v, &res))
+            continue;
+        decided[kind]++;
+        const double *e1[3] = {t1[0], t1[1], t1[2]},
+                     *e2[3] = {t2[0], t2[1], t2[2]};
+        assert_int_equal(res, q_event_cmp(e1, e2));
+        /* its first two cases decide whatever the shapes decide */
+        if (vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
+                                       t2[2], 1, &tres)) {
+            assert_int_equal(res, tres);
+            agreed++;
+        }
+        equal_tops += q_equal_tops(e1, e2, NULL);
+    }
+    print_message("shape_cmp: decided %d of %d moved, %d of %d mirrored, "
+                  "%d of %d unrelated; %d at equal tops\n",
+                  decided[0], made[0], decided[1], made[1], decided[2],
+                  made[2], equal_tops);
+    /* rounded once a site, a shape's differences are the same doubles
+     * elsewhere about one time in seven here */
+    assert_true(decided[0] > made[0] / 10 && decided[1] > made[1] / 20);
+    assert_int_equal(agreed, decided[0] + decided[1] + decided[2]);
+    assert_true(equal_tops > 500);
+}
+
 /* Triangles of two sites on one row and a third on another, as a
  * triangular grid of decimal spacing makes them: vor__fortune_level_cmp
  * decides pairs between the same rows with level pairs of equal width
@@ -2248,6 +2319,7 @@ int main(void) {
         cmocka_unit_test(test_box_cmp),
         cmocka_unit_test(test_level_cmp),
         cmocka_unit_test(test_turned_cmp),
+        cmocka_unit_test(test_shape_cmp),
         cmocka_unit_test(test_trivial_inputs),
         cmocka_unit_test(test_equal_y_first),
         cmocka_unit_test(test_site_below_breakpoint),
