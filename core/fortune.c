@@ -2143,7 +2143,7 @@ static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
  * the bounds shrink the interval to a few ulps, and the queue's plain
  * interval test separates the tops from then on. Only for intervals wider
  * than 2^-30 of the top: the filter's own refinement of nearly collinear
- * triples keeps those of sites on a circle near 2^-45, and the thin
+ * triples keeps those of sites on a circle near 2^-47, and the thin
  * triangles of sites in columns or on a parabola come out between 2^-40
  * and 2^-28, which separates their tops almost always; bounds for each of
  * those cost a sixth of the run, and the few comparisons that do overlap

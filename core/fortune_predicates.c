@@ -619,16 +619,60 @@ VOR__FMA_CLONES
 static double orient_refined(const double *a, const double *b,
                              const double *c, int e, double bx, double by,
                              double cx, double cy, double l, double r,
-                             double *ed) {
+                             double *ed, int *exact) {
     double sc = e ? ldexp(1.0, -e) : 1.0; /* ldexp is a call */
     double ebx = diff_err(b[0], a[0]) * sc, eby = diff_err(b[1], a[1]) * sc;
     double ecx = diff_err(c[0], a[0]) * sc, ecy = diff_err(c[1], a[1]) * sc;
     double d1 = fma(bx, cy, -r) + fma(-by, cx, r);
     double t2 = (bx * ecy + ebx * cy) - (by * ecx + eby * cx);
     double d = d1 + t2;
-    *ed = 0x1p-51 * (fabs(d1) + fabs(d)) + 0x1p-100 * (fabs(l) + fabs(r)) +
-          0x1p-1000;
+    /* Kahan's d1 is within 2u |D1| of D1 = bx cy - by cx, t2 within
+     * 8u^2 (|l| + |r|) of T2, |T3| <= 2u^2 (|l| + |r|), and d = d1 + t2
+     * rounds by u |d|: 3u |d1| + u |d| + 10 u^2 (|l| + |r|) with room
+     * (|D1| <= |d1| (1 + 3u)); the scaled errors lose at most 2^-1074
+     * each to underflow, so 2^-1000 covers T2's share of those. */
+    *ed = 0x1.8p-52 * fabs(d1) + 0x1.01p-53 * fabs(d) +
+          0x1p-102 * (fabs(l) + fabs(r)) + 0x1p-1000;
+    *exact = ebx == 0 && eby == 0 && ecx == 0 && ecy == 0;
     return d;
+}
+
+/* The error bound of vor__fortune_circle_top's t = A.y + g after d was
+ * refined (orient_refined: ed is about 4u |d| where the float bound was
+ * 2^-51 (|l| + |r|), a thousand times more for the thin triangles of
+ * sites nearly on a circle). The general bound's slack, harmless for a
+ * wide d, would then make the interval two hundred ulps wide, where the
+ * tops of consecutive triples of 10^5 sites on a circle lie some
+ * thousands of ulps apart: a tenth of their comparisons overlapped and
+ * went to the double-double bounds, a fifth of Fortune's time there. So
+ * each step is bounded as it is (u = 2^-53; each bound below holds to
+ * first order and its second-order terms are below 2^-40 of it, covered
+ * by the final factor with the rounding of the bound's own arithmetic):
+ *   nx: with exact differences (exact: no rounding in b - a, c - a),
+ *       t1 = cy b2 rounds three times (two squares and their sum, the
+ *       product) and nx = t1 - t2 once: 3u (|t1| + |t2|) + u |nx|; with
+ *       rounded differences (each within u of the exact one) 6u for 3u.
+ *   ux: nx / (2d) against Nx / (2D), with |d - D| <= ed < |d| / 2:
+ *       enx / (2|d|) + (|nx| + enx) ed / (2 |d| (|d| - ed)), and the
+ *       rounded reciprocal and product 2u |ux|; likewise uy.
+ *   g:  on the box of (ux, uy) +- (eux, euy) the gradient of g is
+ *       (ux / rho, 1 + uy / rho) with rho >= rho_min = rr (1 - 4u) -
+ *       eux - euy (rr within 2u of rho(ux, uy)): |ux| / rho <= (|ux| +
+ *       eux) / rho_min and uy / rho <= (uy + euy) / rho_min, each at most
+ *       1, 1 where rho_min <= 0. g's own evaluation: eg as before.
+ *   t:  A.y + g rounds by u |t|, and t -+ err by u (|t| + err) more:
+ *       err = (E + 2u |t|) (1 + 2^-40) with E the bound on t before its
+ *       rounding (the scaling back by 2^e and its 2^-1060 included). */
+static inline double refined_err(double ux, double uy, double rr, double eux,
+                                 double euy) {
+    double rho = rr * (1 - 0x1p-49) - (eux + euy) * (1 + 0x1p-49);
+    double kx = 1, ky = 2;
+    if (rho > 0) {
+        double x = (fabs(ux) + eux) / rho, y = (uy + euy) / rho;
+        kx = x < 1 ? x : 1;
+        ky = 1 + (y < 0 ? 0 : y < 1 ? y : 1);
+    }
+    return kx * eux + ky * euy;
 }
 
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
@@ -658,14 +702,19 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
      * ebx cy - by ecx - eby cx and |T3| <= 2u^2 (|l| + |r|). D1 comes from
      * Kahan's fma algorithm (relative error 2u: Jeannerod, Louvet and
      * Muller, 2013), T2 in plain doubles (|T2| <= 2u (|l| + |r|), so its
-     * error is below 8u^2 (|l| + |r|)), and their sum rounds once: ed
-     * covers all of it twice over. The interval then shrinks by the factor
-     * d's relative error does: the neighbouring tops of sites on a circle,
-     * a few ulps apart after rounding, separate instead of all
-     * overlapping. */
-    if (ad < 0x1p-10 * (fabs(l) + fabs(r))) {
-        d = orient_refined(a, b, c, e, bx, by, cx, cy, l, r, &ed);
+     * error is below 8u^2 (|l| + |r|)), and their sum rounds once (ed:
+     * see orient_refined). The interval then shrinks by the factor d's
+     * relative error does, and its remaining slack is bounded step by
+     * step (refined_err): the neighbouring tops of sites on a circle,
+     * thousands of ulps apart, separate instead of overlapping. Done
+     * where d cancels more than 5 binary digits (the triples of 10^5
+     * sites on a circle that had cancelled only 5 to 10 kept intervals
+     * thousands of ulps wide; below 2^-3 uniform sites ran 1% slower). */
+    int refined = 0, exact = 0;
+    if (ad < 0x1p-5 * (fabs(l) + fabs(r))) {
+        d = orient_refined(a, b, c, e, bx, by, cx, cy, l, r, &ed, &exact);
         ad = fabs(d);
+        refined = 1;
     }
     /* d is orient2d(a, b, c) with an error below ed (Shewchuk's bound is
      * (3 + 16 eps) eps (|l| + |r|)): its sign is proven when |d| > 2 ed */
@@ -674,13 +723,8 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
     double t1 = cy * b2, t2 = by * c2, t3 = bx * c2, t4 = cx * b2;
     double nx = t1 - t2, ny = t3 - t4;
-    double enx = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
-    double eny = VOR__BP_BOUND * (fabs(t3) + fabs(t4));
     double inv = 0.5 / d, iad = fabs(inv);
     double ux = nx * inv, uy = ny * inv;
-    double q = ed * iad;
-    double eux = (enx + 4 * (fabs(nx) + enx) * q) * iad + 0x1p-51 * fabs(ux);
-    double euy = (eny + 4 * (fabs(ny) + eny) * q) * iad + 0x1p-51 * fabs(uy);
     double rr = sqrt(ux * ux + uy * uy);
     double g, eg;
     if (uy >= 0) {
@@ -690,15 +734,36 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
         g = (ux * ux) / (rr - uy);
         eg = 0x1p-50 * g;
     }
-    double err = eux + 2 * euy + eg + 0x1p-700;
-    if (err > 0x1p-40 * g) /* wide: the division is worth it */
-        err = x_share(ux, uy, eux, euy) + 2 * euy + eg + 0x1p-700;
+    double err;
+    if (refined) { /* see refined_err */
+        double k = exact ? 0x1.8p-52 : 0x1.8p-51;
+        double enx = k * (fabs(t1) + fabs(t2)) + 0x1p-53 * fabs(nx);
+        double eny = k * (fabs(t3) + fabs(t4)) + 0x1p-53 * fabs(ny);
+        double w = ed / (ad - ed);
+        double eux = (enx + (fabs(nx) + enx) * w) * iad + 0x1p-52 * fabs(ux);
+        double euy = (eny + (fabs(ny) + eny) * w) * iad + 0x1p-52 * fabs(uy);
+        err = refined_err(ux, uy, rr, eux, euy) + eg + 0x1p-700;
+    } else {
+        double enx = VOR__BP_BOUND * (fabs(t1) + fabs(t2));
+        double eny = VOR__BP_BOUND * (fabs(t3) + fabs(t4));
+        double q = ed * iad;
+        double eux =
+            (enx + 4 * (fabs(nx) + enx) * q) * iad + 0x1p-51 * fabs(ux);
+        double euy =
+            (eny + 4 * (fabs(ny) + eny) * q) * iad + 0x1p-51 * fabs(uy);
+        err = eux + 2 * euy + eg + 0x1p-700;
+        if (err > 0x1p-40 * g) /* wide: the division is worth it */
+            err = x_share(ux, uy, eux, euy) + 2 * euy + eg + 0x1p-700;
+    }
     if (e != 0) {
         g = ldexp(g, e);
         err = ldexp(err, e) + 0x1p-1060;
     }
     double t = a[1] + g;
-    err = 2 * err + 0x1p-51 * (fabs(a[1]) + g + fabs(t));
+    if (refined)
+        err = (err + 0x1p-52 * fabs(t)) * (1 + 0x1p-40);
+    else
+        err = 2 * err + 0x1p-51 * (fabs(a[1]) + g + fabs(t));
     if (!(err <= DBL_MAX) || !(fabs(t) <= DBL_MAX)) goto unknown;
     *lo = t - err;
     *hi = t + err;

@@ -646,6 +646,92 @@ static void test_circle_top_bounds(void **state) {
     assert_true(level > near * 9 / 10);
 }
 
+/* Thin triangles, whose orientation vor__fortune_circle_top refines and
+ * whose top it then bounds step by step (refined_err in
+ * fortune_predicates.c): consecutive sites (or every few) of circles of
+ * radius 2^-20 to 2^19 about centres at the origin, nearby (some
+ * differences rounded) or far away (coordinates of large magnitude), some
+ * sites moved by an ulp or two, and sites nearly on a line in any
+ * direction. Each interval must hold the exact top (GMP), in each
+ * rotation of the triple and both ranges; on circles about the origin,
+ * where the differences are exact, it must also be within 2^-46 of the
+ * top (64 ulps; the general bound gave about 400). */
+static void test_circle_top_refined(void **state) {
+    (void)state;
+    uint64_t seed = 212;
+    print_message("circle_top_refined: seed %llu\n", (unsigned long long)seed);
+    vt_rng r = {seed};
+    int tried = 0, narrow = 0, centred = 0;
+    for (int it = 0; it < 24000; it++) {
+        int kind = it % 4;
+        double rad = ldexp(1.0, (int)(vt_next(&r) % 40) - 20), t[3][2];
+        if (kind < 3) {
+            double n = 100.0 * (double)(1 + vt_next(&r) % 100000);
+            double i0 = (double)(vt_next(&r) % (uint64_t)n);
+            double step = (double)(1 + vt_next(&r) % 4);
+            double ox = 0, oy = 0;
+            if (kind == 1) { /* nearby: some differences rounded */
+                ox = rad * (vt_unit(&r) * 8 - 4);
+                oy = rad * (vt_unit(&r) * 8 - 4);
+            } else if (kind == 2) { /* far: large coordinates */
+                ox = rad * ldexp(vt_unit(&r) - 0.5, 20);
+                oy = rad * ldexp(vt_unit(&r) - 0.5, 20);
+            }
+            for (int k = 0; k < 3; k++) {
+                double a = 6.283185307179586 * (i0 + step * k) / n;
+                t[k][0] = ox + rad * cos(a);
+                t[k][1] = oy + rad * sin(a);
+                if (kind > 0 && vt_next(&r) % 4 == 0) { /* an ulp or two off */
+                    int c = (int)(vt_next(&r) % 2);
+                    double to = vt_next(&r) % 2 ? 1e300 : -1e300;
+                    t[k][c] = nextafter(t[k][c], to);
+                    if (vt_next(&r) % 2) t[k][c] = nextafter(t[k][c], to);
+                }
+            }
+        } else { /* nearly on a line through a random point */
+            double px = rad * (vt_unit(&r) - 0.5), py = rad * (vt_unit(&r) - 0.5);
+            double th = 6.283185307179586 * vt_unit(&r);
+            double gap = rad * ldexp(1.0, -(int)(vt_next(&r) % 30));
+            double off = gap * ldexp(vt_unit(&r) - 0.5, -(int)(vt_next(&r) % 20));
+            double s[3] = {0, gap * (1 + vt_unit(&r)), gap * (2 + 2 * vt_unit(&r))};
+            for (int k = 0; k < 3; k++) {
+                t[k][0] = px + s[k] * cos(th) - (k == 1) * off * sin(th);
+                t[k][1] = py + s[k] * sin(th) + (k == 1) * off * cos(th);
+            }
+        }
+        if (!make_ccw(t)) continue;
+        for (int rot = 0; rot < 3; rot++) {
+            double u[3][2];
+            rotated(u, t, rot);
+            for (int safe = 0; safe < 2; safe++) {
+                if (safe && !(in_safe_range(u[0]) && in_safe_range(u[1]) &&
+                              in_safe_range(u[2])))
+                    continue;
+                double lo, hi;
+                assert_int_equal(
+                    vor__fortune_circle_top(u[0], u[1], u[2], safe, &lo, &hi),
+                    1);
+                if (!isfinite(lo)) continue;
+                tried++;
+                if (q_top_vs(u[0], u[1], u[2], lo) < 0 ||
+                    q_top_vs(u[0], u[1], u[2], hi) > 0)
+                    fail_msg("[%a, %a] misses the top of (%a, %a) (%a, %a) "
+                             "(%a, %a)", lo, hi, u[0][0], u[0][1], u[1][0],
+                             u[1][1], u[2][0], u[2][1]);
+                if (kind == 0) {
+                    centred++;
+                    narrow += hi - lo <= 0x1p-46 * fabs(hi);
+                }
+            }
+        }
+    }
+    print_message("circle_top_refined: %d intervals hold their tops; %d of "
+                  "%d on circles about the origin within 2^-46\n", tried,
+                  narrow, centred);
+    assert_true(tried > 100000);
+    assert_true(narrow > centred * 9 / 10);
+}
+
 static void test_site_first(void **state) {
     (void)state;
     uint64_t seed = 303;
@@ -2313,6 +2399,7 @@ int main(void) {
         cmocka_unit_test(test_bp_side_on_circle),
         cmocka_unit_test(test_bp_side_equal_y),
         cmocka_unit_test(test_circle_top_bounds),
+        cmocka_unit_test(test_circle_top_refined),
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_exact_top),
         cmocka_unit_test(test_circle_cmp),
