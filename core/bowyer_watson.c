@@ -208,8 +208,8 @@ static vor_status insert(bw *st, uint32_t p) {
         int in;
         if (((a | b | c) >> 30) == 0) {
             /* no vertex is the ghost: site ids are < 2^30 (mesh.h) */
-            in = vor__incircle_static_n(XY(a), XY(b), XY(c), pp, st->w.icc,
-                                        &st->w.exact, &st->w.cocircular) > 0;
+            in = vor__incircle_local_n(XY(a), XY(b), XY(c), pp, &st->w.exact,
+                                       &st->w.cocircular) > 0;
         } else {
             if (c == VOR__GHOST) {
                 in = vor__ghost_conflict_n(XY(a), XY(b), pp, &st->w.exact);

@@ -420,8 +420,8 @@ static vor_status legalise(flipper *st, uint32_t p) {
         uint32_t a = tri[e], b = tri[vor__next(e)];
         assert(a != VOR__GHOST && b != VOR__GHOST);
         tests++;
-        if (vor__incircle_static_n(XY(a), XY(b), pp, XY(d), st->w.icc,
-                                   &st->w.exact, &st->w.cocircular) <= 0)
+        if (vor__incircle_local_n(XY(a), XY(b), pp, XY(d), &st->w.exact,
+                                  &st->w.cocircular) <= 0)
             continue;
         if (n + 2 > st->cap) {
             st->n = n;

@@ -273,7 +273,6 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     vor__bbox(local, n, box);
     double span = scale_local(local, n, box);
     w->occ = vor__orient2d_static_bound(span);
-    w->icc = vor__incircle_static_bound(span);
     *pxy = local;
     return VOR_OK;
 }

@@ -39,7 +39,7 @@
 typedef struct vor__walk {
     uint32_t tri;
     uint32_t rng;
-    double occ, icc;
+    double occ;
     uint64_t steps, orient2d, incircle, exact;
     uint64_t cocircular; /* incircle tests that found four cocircular sites */
 } vor__walk;
@@ -87,8 +87,8 @@ uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
 
 /* The larger side of the bounding box of the n >= 1 points at xy (2n
  * doubles), as rounded by one subtraction: the span to give
- * vor__incircle_static_bound (predicates.h) for incircle tests among these
- * points. O(n). */
+ * vor__orient2d_static_bound (predicates.h) for orientation tests among
+ * these points. O(n). */
 double vor__span(const double *xy, size_t n);
 
 /* Non-zero if p is in the "circumcircle" of ghost triangle with hull edge

@@ -348,13 +348,6 @@ build_records_as(dual *D, const int merge, const int test) {
     uint8_t fdeg[BLOCK], act[BLOCK];
     const uint8_t *cc = merge ? D->cc : NULL;
     const uint32_t *root = merge ? D->root : NULL;
-#ifdef NDEBUG
-    const int checks = test;
-#else
-    const int checks = 1;
-#endif
-    const double icc =
-        cc || !checks ? 0 : vor__incircle_static_bound(vor__span(lxy, n));
 
     for (size_t v = 0; v < n; v++) {
         const size_t j = v % BLOCK;
@@ -449,7 +442,7 @@ build_records_as(dual *D, const int merge, const int test) {
             if (wl[k] < v) continue;
             size_t kp = k ? k - 1 : deg - 1, kn = k + 1 < deg ? k + 1 : 0;
             if (wl[kp] == VOR__GHOST || wl[kn] == VOR__GHOST) continue;
-            int ic = vor__incircle_static(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]), icc);
+            int ic = vor__incircle_local(pv, XY(wl[k]), XY(wl[kn]), XY(wl[kp]));
             if (ic > 0) return PASS_BROKEN;
             assert(test || ic != 0);
             if (ic == 0 && (ic = collect(D, he[k], (uint32_t)v)) != PASS_OK) {
@@ -721,7 +714,7 @@ static int add_to_polygon(dual *D, uint32_t t) {
 /* See above. Recounts the cells (count) without the diagonals. PASS_OK,
  * PASS_NOMEM, or PASS_BROKEN if an edge is not locally Delaunay. */
 static int merge_prepare(dual *D) {
-    const size_t T = D->T, n = D->n;
+    const size_t T = D->T;
     const uint32_t *tri = D->tri;
     const int32_t *adj = D->adj;
     const double *lxy = D->lxy;
@@ -730,7 +723,6 @@ static int merge_prepare(dual *D) {
     if (!D->cc || !D->root) return PASS_NOMEM;
     uint8_t *cc = D->cc;
     uint32_t *root = D->root; /* set for triangles in polygons only */
-    const double icc = vor__incircle_static_bound(vor__span(lxy, n));
     for (uint32_t e = 0; e < 3 * T; e++) {
         /* the twin's apex and the four points, read at random where the
          * mesh's neighbours are far apart in its order (points in convex
@@ -753,7 +745,7 @@ static int merge_prepare(dual *D) {
          * the vertex where it stopped: all of those but that vertex's
          * are no diagonals */
         if ((a < b ? a : b) < D->tested) continue;
-        int ic = vor__incircle_static(XY(a), XY(b), XY(c), XY(d), icc);
+        int ic = vor__incircle_local(XY(a), XY(b), XY(c), XY(d));
         if (ic > 0) return PASS_BROKEN;
         if (ic < 0) continue;
         join(cc, root, e, f);

@@ -222,42 +222,34 @@ static inline int vor__incircle_fast_n(const double *a, const double *b,
     return vor__incircle_exact(a, b, c, d);
 }
 
-/* ---- Incircle with a static bound ------------------------------------------
- * Where every coordinate difference of the points a loop will test is known
- * to be at most M in magnitude, the permanent of the filter above is at
- * most 12 M^4 (alift <= 2 M^2, |bdx cdy| + |cdx bdy| <= 2 M^2, three such
- * terms), computed with at most a few ulps more, so
+/* ---- Incircle with a local bound -------------------------------------------
+ * The filter above needs the permanent of the determinant (about a third
+ * of its flops) for a bound that holds whatever the points. A cheaper one
+ * follows from the lifts it computes anyway: with L the largest of alift,
+ * blift and clift, each lift is at most L, and |bdx cdy| + |cdx bdy| <=
+ * (bdx^2 + cdy^2 + cdx^2 + bdy^2) / 2 = (blift + clift) / 2 <= L (and so
+ * for the other two), so the permanent is at most 3 L^2, computed with at
+ * most a few ulps more, and
  *
- *     S = VOR__ICC_BOUND * 16 M^4
+ *     S = VOR__ICC_BOUND * 4 L^2 + 2^-900
  *
- * exceeds the dynamic bound of every such call by a third of itself at
- * least. A computed |det| > S then proves the sign, as the dynamic filter
- * would, without computing the permanent (about a third of the filter's
- * flops). Underflow: with M >= 2^-200, S >= 2^-850, and a third of S
- * dwarfs the at most 2^-1069 that underflowed products can lose (see
- * above; U <= 12 M^2 + 4); with M <= 2^200 nothing overflows. Outside
- * that range vor__incircle_static_bound returns +inf, and every call falls
- * through to vor__incircle_fast, as does every call with |det| <= S. */
+ * exceeds the dynamic bound of the call by a quarter of itself at least;
+ * the absolute term dwarfs the at most 2^-1069 that underflowed products
+ * can lose. Overflow: |det| and each of its terms are at most about 3 L^2,
+ * so where 4 L^2 overflows S is infinite and decides nothing, and where it
+ * does not, det is finite (a nan det decides nothing either). A computed |det| > S proves the sign as the
+ * dynamic filter would. L scales with the four points' own extent, where
+ * a bound from the span of all the sites (16 M^4, M the span) held for
+ * configurations of that size only: at 10^6 gaussian sites, whose centre
+ * is 40 times as dense as its bounding box on average, and at 10^7
+ * uniform ones, most tests of the dense parts fell through it, and
+ * Bowyer-Watson and flip ran 8% longer there, for the unpredictable
+ * branch as much as for the permanent. */
 
-/* S for points whose coordinate differences are at most span in magnitude
- * (span >= 0, e.g. the larger side of their bounding box), or +inf when
- * span is 0 or outside [2^-200, 2^200] (then S never decides). M is span
- * rounded up to a power of two, so S is exact. */
-static inline double vor__incircle_static_bound(double span) {
-    if (!(span >= 0x1p-200 && span <= 0x1p200))
-        return INFINITY;
-    int ex;
-    /* span = f 2^ex with f < 1 - 2^-53, so even the exact difference that
-     * span is the rounding of stays below M = 2^ex */
-    (void)frexp(span, &ex);
-    double m = ldexp(1.0, ex);
-    return VOR__ICC_BOUND * 16.0 * (m * m) * (m * m);
-}
-
-/* The sign from the static bound alone, 0 when it cannot decide. */
+/* The sign from the local bound alone, 0 when it cannot decide. */
 static inline __attribute__((always_inline)) int
-vor__incircle_static_filter(const double *a, const double *b, const double *c,
-                            const double *d, double s) {
+vor__incircle_local_filter(const double *a, const double *b, const double *c,
+                           const double *d) {
     double adx = a[0] - d[0], bdx = b[0] - d[0], cdx = c[0] - d[0];
     double ady = a[1] - d[1], bdy = b[1] - d[1], cdy = c[1] - d[1];
     double alift = adx * adx + ady * ady;
@@ -266,15 +258,18 @@ vor__incircle_static_filter(const double *a, const double *b, const double *c,
     double det = alift * (bdx * cdy - cdx * bdy) +
                  blift * (cdx * ady - adx * cdy) +
                  clift * (adx * bdy - bdx * ady);
+    double l = alift > blift ? alift : blift;
+    l = l > clift ? l : clift;
+    /* 4 L^2 first: where it overflows, det may too, and S must be inf */
+    double s = VOR__ICC_BOUND * ((4.0 * l) * l) + 0x1p-900;
     return (det > s) - (det < -s); /* no branch on the sign */
 }
 
-/* Same result as vor_incircle(a, b, c, d), for points whose coordinate
- * differences are within the span that bound s was made for. */
+/* Same result as vor_incircle(a, b, c, d). */
 static inline __attribute__((always_inline)) int
-vor__incircle_static(const double *a, const double *b, const double *c,
-                     const double *d, double s) {
-    int r = vor__incircle_static_filter(a, b, c, d, s);
+vor__incircle_local(const double *a, const double *b, const double *c,
+                    const double *d) {
+    int r = vor__incircle_local_filter(a, b, c, d);
     return r ? r : vor__incircle_fast(a, b, c, d);
 }
 
@@ -282,10 +277,9 @@ vor__incircle_static(const double *a, const double *b, const double *c,
  * *cocircular when the four points are cocircular (only the exact
  * evaluation finds a 0: the count costs nothing on the filtered path). */
 static inline __attribute__((always_inline)) int
-vor__incircle_static_n(const double *a, const double *b, const double *c,
-                       const double *d, double s, uint64_t *exact,
-                       uint64_t *cocircular) {
-    int r = vor__incircle_static_filter(a, b, c, d, s);
+vor__incircle_local_n(const double *a, const double *b, const double *c,
+                      const double *d, uint64_t *exact, uint64_t *cocircular) {
+    int r = vor__incircle_local_filter(a, b, c, d);
     if (r) return r;
     r = vor__incircle_filter(a, b, c, d);
     if (r) return r;
@@ -294,15 +288,23 @@ vor__incircle_static_n(const double *a, const double *b, const double *c,
     return r;
 }
 
-/* orient2d the same way: |l| + |r| <= 2 M^2, so S = VOR__CCW_BOUND * 4 M^2
- * exceeds the dynamic bound by half of itself, and decides without the
- * absolute values; the underflow margin (S >= 2^-450 for M >= 2^-200)
- * dwarfs the 2^-1074 two underflowed products can lose. */
+/* ---- Orient2d with a static bound ------------------------------------------
+ * Where every coordinate difference of the points a loop will test is known
+ * to be at most M in magnitude (the span of all the sites, rounded up to a
+ * power of two), |l| + |r| <= 2 M^2 in the filter above, so S =
+ * VOR__CCW_BOUND * 4 M^2 exceeds the dynamic bound by half of itself, and
+ * decides without the absolute values; the underflow margin (S >= 2^-450
+ * for M >= 2^-200) dwarfs the 2^-1074 two underflowed products can lose.
+ * Unlike incircle's, this determinant shrinks only with the square of the
+ * points' extent, and stays above S even for sites 10^-7 of the span
+ * apart. */
 static inline double vor__orient2d_static_bound(double span) {
     if (!(span >= 0x1p-200 && span <= 0x1p200))
         return INFINITY;
     int ex;
-    (void)frexp(span, &ex); /* as for the incircle bound: M = 2^ex > span */
+    /* span = f 2^ex with f < 1 - 2^-53, so even the exact difference that
+     * span is the rounding of stays below M = 2^ex */
+    (void)frexp(span, &ex);
     double m = ldexp(1.0, ex);
     return VOR__CCW_BOUND * 4.0 * (m * m);
 }

@@ -850,7 +850,8 @@ static int report_total(void **state) {
     return 0;
 }
 
-/* The static filters (vor__orient2d_static, vor__incircle_static) against
+/* The static orient2d filter and the local incircle filter
+ * (vor__orient2d_static, vor__incircle_local) against
  * the rational oracles, on batches of points whose span gives the bound,
  * as the mesh code uses them: uniform points, points rounded onto a circle
  * (nearly cocircular, nearly collinear), lattice points (exactly
@@ -905,15 +906,14 @@ static void test_static_filters(void **state) {
                 }
                 double span = fmax(x1 - x0, y1 - y0);
                 double so = vor__orient2d_static_bound(span);
-                double sc = vor__incircle_static_bound(span);
-                assert_true(isfinite(so) && isfinite(sc));
+                assert_true(isfinite(so));
                 for (int k = 0; k < 300; k++) {
                     const double *a = pts + 2 * (vt_next(&r) % N);
                     const double *b = pts + 2 * (vt_next(&r) % N);
                     const double *c = pts + 2 * (vt_next(&r) % N);
                     const double *d = pts + 2 * (vt_next(&r) % N);
                     assert_int_equal(vor__orient2d_static(a, b, c, so), oracle_orient(a, b, c));
-                    assert_int_equal(vor__incircle_static(a, b, c, d, sc),
+                    assert_int_equal(vor__incircle_local(a, b, c, d),
                                      oracle_incircle(a, b, c, d));
                     total++;
                     decided += vor__incircle_filter(a, b, c, d) != 0;
@@ -924,9 +924,61 @@ static void test_static_filters(void **state) {
     printf("  static filters: %ld tuples, %ld decided by the dynamic filter\n",
            total, decided);
     /* out of range: no bound, every call falls through */
-    assert_true(isinf(vor__incircle_static_bound(0x1p-201)));
-    assert_true(isinf(vor__incircle_static_bound(0x1p201)));
     assert_true(isinf(vor__orient2d_static_bound(0.0)));
+}
+
+/* The local bound of incircle (vor__incircle_local) against the oracle
+ * where a bound from the span would be far off: four points of a small
+ * cluster (1 down to 2^-60 across) inside a span of 1, one of them far
+ * (across the span) with three close, nearly cocircular quadruples of the
+ * cluster, and whole sets at 2^-600, 2^-300, 2^300 and 2^600, outside any
+ * span a static bound allowed, with and without an offset. */
+static void test_local_incircle(void **state) {
+    (void)state;
+    const uint64_t seed = 20261126;
+    printf("  local incircle: seed %llu\n", (unsigned long long)seed);
+    vt_rng r = {seed};
+    long decided = 0, total = 0;
+    const double scales[] = {0x1p-600, 0x1p-300, 1.0, 0x1p300, 0x1p600};
+    for (int it = 0; it < 200000; it++) {
+        double L = scales[it % 5];
+        double w = ldexp(1.0, -(int)(vt_next(&r) % 61)); /* cluster width */
+        double cx = vt_unit(&r), cy = vt_unit(&r), off = it % 2 ? 0 : 3.0;
+        double p[4][2];
+        int kind = (int)(vt_next(&r) % 3);
+        for (int k = 0; k < 4; k++) {
+            double x, y;
+            if (kind == 2) { /* nearly on a circle of the cluster */
+                double t = 6.283185307179586 * vt_unit(&r);
+                x = cx + w * cos(t);
+                y = cy + w * sin(t);
+            } else {
+                x = cx + w * vt_unit(&r);
+                y = cy + w * vt_unit(&r);
+            }
+            if (kind == 1 && k == (int)(it % 4)) { /* one far point */
+                x = vt_unit(&r);
+                y = vt_unit(&r);
+            }
+            p[k][0] = (off + x) * L;
+            p[k][1] = (off + y) * L;
+        }
+        int want = oracle_incircle(p[0], p[1], p[2], p[3]);
+        int got = vor__incircle_local(p[0], p[1], p[2], p[3]);
+        if (got != want)
+            fail_msg("incircle (%a, %a) (%a, %a) (%a, %a) (%a, %a): %d, not "
+                     "%d", p[0][0], p[0][1], p[1][0], p[1][1], p[2][0],
+                     p[2][1], p[3][0], p[3][1], got, want);
+        if (L == 1.0) {
+            total++;
+            decided += vor__incircle_local_filter(p[0], p[1], p[2], p[3]) != 0;
+        }
+    }
+    /* at the other scales a lift or the bound's square overflows or the
+     * determinant underflows: every call goes on to the exact stages */
+    printf("  local incircle: %ld tuples at scale 1, %ld decided by the "
+           "local bound\n", total, decided);
+    assert_true(decided > total / 2);
 }
 
 /* vor__circumcenter_fast decides its window on the bits of the
@@ -998,6 +1050,7 @@ int main(void) {
         cmocka_unit_test(test_orient_value),
         cmocka_unit_test(test_circumcenter_window),
         cmocka_unit_test(test_static_filters),
+        cmocka_unit_test(test_local_incircle),
     };
     return cmocka_run_group_tests_name("core/predicates", tests, setup_seed,
                                        report_total);
