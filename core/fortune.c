@@ -181,6 +181,7 @@ typedef struct sweep {
     uint32_t *orig; /* n: site index of each sorted site */
     int safe;       /* coordinates in the filters' range */
     int lattice;    /* few bits per coordinate: equal tops are common */
+    int small;      /* at most 16 of them (vor__fortune_circle_exact_small) */
     uint64_t equal_tops; /* ties of two events' tops found equal */
     /* vertex events (circle events, sites exactly below a breakpoint)
      * whose y interval overlapped the one before's (see vertex_at):
@@ -836,7 +837,8 @@ static double bulk_scale(const vor_sites *s, frame f, int emax, double mn,
  * box: a hexagonal lattice of horizontal rows is swept twice as fast
  * across its rows as along them (cocircular rectangles appear), while
  * other grids gain a little. */
-static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
+static frame choose_frame(const vor_sites *s, int *safe, int *lattice,
+                          int *small) {
     frame f = {{0, 0}, 1.0, 1.0, 0};
     double box[4];
     vor__bbox(s->xy, s->n, box);
@@ -862,12 +864,17 @@ static frame choose_frame(const vor_sites *s, int *safe, int *lattice) {
     }
     *safe = 0;
     *lattice = 0;
+    *small = 0;
     if (mx == 0) return f;
     int e;
     (void)frexp(mx, &e); /* mx = f 2^e, f in [0.5, 1) */
     /* a small lattice: every coordinate a multiple of 2^lowest below 2^e,
      * e - lowest <= 26 bits (pixels, grids, small integers) */
     *lattice = e - lowest <= 26;
+    /* and 16 bits or fewer: in the frame below (coordinates under 2), the
+     * multiples of 2^(lowest + 1 - e) >= 2^-15 that
+     * vor__fortune_circle_exact_small takes */
+    *small = e - lowest <= 16;
     /* scaled by 2^(1 - e), in two factors past 2^1023 (sites of
      * subnormal magnitude: scaling up is exact), unless the smallest
      * difference would turn subnormal */
@@ -1556,9 +1563,10 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
     double *c = w->cache + 6 * (size_t)r;
     if (!(w->known[r] & KNOWN_EXACT)) {
         w->known[r] |= KNOWN_EXACT;
-        if (!vor__fortune_circle_exact_double(site_xy(w, e->s[0]),
-                                              site_xy(w, e->s[1]),
-                                              site_xy(w, e->s[2]), c + 3))
+        const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
+                     *d = site_xy(w, e->s[2]);
+        if (!(w->small ? vor__fortune_circle_exact_small(a, b, d, c + 3)
+                       : vor__fortune_circle_exact_double(a, b, d, c + 3)))
             c[5] = -1;
         else if (w->safe && vor__fortune_exact_top(c + 3, &c[0], &c[1])) {
             c[2] = 0;
@@ -2574,7 +2582,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.tracing = run->trace != NULL;
     w.s = s;
     vor_status st;
-    frame f = choose_frame(s, &w.safe, &w.lattice);
+    frame f = choose_frame(s, &w.safe, &w.lattice, &w.small);
     /* a trace draws the sweep line across the sites' y */
     if (w.tracing) f.turn = 0;
     /* 2n triangles' room, of which the mesh uses 2n - 2 (Euler, ghosts

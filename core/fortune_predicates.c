@@ -1018,10 +1018,31 @@ static inline int exact_add(double a, double b, double *s) {
     return t.lo == 0;
 }
 
+/* The circle from its exact numerators nx, ny and determinant d (the
+ * centre's offset from a is (nx, ny) / 2d): 1 with out = {x, y, r^2} if
+ * they are exact in doubles. */
+static inline __attribute__((always_inline)) int
+circle_from(const double *a, double nx, double ny, double d, double *out) {
+    double ux, uy, x, y, r2, s, t, p, q;
+    if (!exact_mul(2, d, &t) || t == 0) return 0;
+    ux = nx / t;
+    uy = ny / t;
+    if (!exact_mul(ux, t, &s) || s != nx || !exact_mul(uy, t, &s) || s != ny)
+        return 0;
+    if (!exact_add(a[0], ux, &x) || !exact_add(a[1], uy, &y)) return 0;
+    if (!exact_mul(ux, ux, &p) || !exact_mul(uy, uy, &q) ||
+        !exact_add(p, q, &r2))
+        return 0;
+    out[0] = x;
+    out[1] = y;
+    out[2] = r2;
+    return 1;
+}
+
 VOR__FMA_CLONES
 int vor__fortune_circle_exact_double(const double *a, const double *b,
                                      const double *c, double *out) {
-    double bx, by, cx, cy, p, q, d, b2, c2, nx, ny, ux, uy, x, y, r2, s, t;
+    double bx, by, cx, cy, p, q, d, b2, c2, nx, ny;
     if (!exact_diff(b[0], a[0], &bx) || !exact_diff(b[1], a[1], &by) ||
         !exact_diff(c[0], a[0], &cx) || !exact_diff(c[1], a[1], &cy))
         return 0;
@@ -1040,19 +1061,17 @@ int vor__fortune_circle_exact_double(const double *a, const double *b,
     if (!exact_mul(bx, c2, &p) || !exact_mul(cx, b2, &q) ||
         !exact_diff(p, q, &ny))
         return 0;
-    if (!exact_mul(2, d, &t) || t == 0) return 0;
-    ux = nx / t;
-    uy = ny / t;
-    if (!exact_mul(ux, t, &s) || s != nx || !exact_mul(uy, t, &s) || s != ny)
-        return 0;
-    if (!exact_add(a[0], ux, &x) || !exact_add(a[1], uy, &y)) return 0;
-    if (!exact_mul(ux, ux, &p) || !exact_mul(uy, uy, &q) ||
-        !exact_add(p, q, &r2))
-        return 0;
-    out[0] = x;
-    out[1] = y;
-    out[2] = r2;
-    return 1;
+    return circle_from(a, nx, ny, d, out);
+}
+
+VOR__FMA_CLONES
+int vor__fortune_circle_exact_small(const double *a, const double *b,
+                                    const double *c, double *out) {
+    double bx = b[0] - a[0], by = b[1] - a[1];
+    double cx = c[0] - a[0], cy = c[1] - a[1];
+    double d = bx * cy - by * cx;
+    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    return circle_from(a, cy * b2 - by * c2, bx * c2 - cx * b2, d, out);
 }
 
 VOR__FMA_CLONES

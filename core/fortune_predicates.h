@@ -242,6 +242,16 @@ static inline int vor__fortune_key_cmp(const double k1[2],
 int vor__fortune_circle_exact_double(const double *a, const double *b,
                                      const double *c, double *out);
 
+/* The same for sites of a small lattice: every coordinate a multiple of
+ * one 2^k, k >= -300, and below 2^(k + 16) in magnitude (integer pixels,
+ * grids and small integers, as the sweep's frame puts them). The
+ * differences then have at most 17 significant bits, their products 34,
+ * and the numerators of the centre at most 53, so they are computed
+ * exactly without being checked: the same result as
+ * vor__fortune_circle_exact_double, for half its operations. */
+int vor__fortune_circle_exact_small(const double *a, const double *b,
+                                    const double *c, double *out);
+
 /* The top of a circle known exactly (circle = {x, y, r^2} from
  * vor__fortune_circle_exact_double) when its radius is exact in doubles
  * too, as the Pythagorean radii of a lattice's circles are: 1 with

@@ -802,6 +802,59 @@ static void test_site_first(void **state) {
         }
 }
 
+/* The small lattice's circle (vor__fortune_circle_exact_small) within its
+ * precondition: coordinates m 2^k, |m| < 2^16, k from -300 to 40, spread
+ * over the whole range or near one point, the extremes +-(2^16 - 1)
+ * included. It must give what vor__fortune_circle_exact_double gives, bit
+ * for bit, and its exact circles must be the circle (GMP). */
+static void test_circle_exact_small(void **state) {
+    (void)state;
+    uint64_t seed = 317;
+    print_message("circle_exact_small: seed %llu\n", (unsigned long long)seed);
+    vt_rng r = {seed};
+    const int ks[] = {-300, -15, -3, 0, 7, 40};
+    int n_exact = 0, n = 0;
+    mpq_t X, Y, R2, q;
+    mpq_inits(X, Y, R2, q, NULL);
+    for (int it = 0; it < 60000; it++) {
+        int k = ks[it % 6];
+        long lim = (1L << 16) - 1, span = it % 3 == 0 ? lim : 20;
+        long o[2] = {0, 0};
+        if (span < lim)
+            for (int a = 0; a < 2; a++)
+                o[a] = (long)(vt_next(&r) % (uint64_t)(2 * (lim - span) + 1)) -
+                       (lim - span);
+        double t[3][2];
+        for (int i = 0; i < 3; i++)
+            for (int a = 0; a < 2; a++) {
+                long m = o[a] + (long)(vt_next(&r) % (uint64_t)(2 * span + 1)) -
+                         span;
+                if (vt_next(&r) % 16 == 0) m = vt_next(&r) % 2 ? lim : -lim;
+                t[i][a] = ldexp((double)m, k);
+            }
+        if (!make_ccw(t)) continue;
+        n++;
+        double c1[3] = {0, 0, 0}, c2[3] = {0, 0, 0};
+        int g1 = vor__fortune_circle_exact_small(t[0], t[1], t[2], c1);
+        int g2 = vor__fortune_circle_exact_double(t[0], t[1], t[2], c2);
+        assert_int_equal(g1, g2);
+        if (!g1) continue;
+        assert_memory_equal(c1, c2, sizeof c1);
+        n_exact++;
+        q_circle(t[0], t[1], t[2], X, Y, R2);
+        mpq_set_d(q, c1[0]);
+        assert_true(mpq_equal(q, X));
+        mpq_set_d(q, c1[1]);
+        assert_true(mpq_equal(q, Y));
+        mpq_set_d(q, c1[2]);
+        assert_true(mpq_equal(q, R2));
+    }
+    mpq_clears(X, Y, R2, q, NULL);
+    print_message("circle_exact_small: %d of %d circles exact in doubles\n",
+                  n_exact, n);
+    assert_true(n_exact > n / 20);
+}
+
 /* Tops known exactly (vor__fortune_exact_top): for lattice triples, at
  * integer scale and scaled by powers of two, whose circles are exact in
  * doubles, the top is reported iff the squared radius is a rational
@@ -2400,6 +2453,7 @@ int main(void) {
         cmocka_unit_test(test_bp_side_equal_y),
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_circle_top_refined),
+        cmocka_unit_test(test_circle_exact_small),
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_exact_top),
         cmocka_unit_test(test_circle_cmp),
