@@ -656,6 +656,55 @@ static vor_status ymap_build(ymap *m, const keyed *a, size_t n,
     return VOR_OK;
 }
 
+/* A bucket of more than ROW_SORT sites is most often a row: sites of one
+ * y, which the map of y gives one rank (a lattice's rows: 166 sites each
+ * at 10^5 integer pixels, 316 on a grid). row_sort sorts such a row
+ * r[0..m-1] by x as the buckets sort by y: a linear map of x onto about
+ * m / 2 sub-buckets (monotone: a subtraction and a product, each rounded
+ * monotonically), one scatter into scratch (m entries) and back, and each
+ * sub-bucket sorted by sort_range. Anything else, sites of several y or
+ * an x range beyond the doubles, is sorted by sort_range as it was.
+ * Sorting the rows of 10^5 pixels by comparisons took 3.4% of Fortune's
+ * run. */
+#define ROW_SORT 64
+
+static void row_sort(keyed *r, size_t m, keyed *scratch) {
+    double lo = r[0].x, hi = r[0].x;
+    for (size_t j = 1; j < m; j++) {
+        if (r[j].k != r[0].k) {
+            sort_range(r, 0, m);
+            return;
+        }
+        lo = r[j].x < lo ? r[j].x : lo;
+        hi = r[j].x > hi ? r[j].x : hi;
+    }
+    const size_t nb = m / 2;
+    double scale = (double)nb / (hi - lo);
+    if (!(scale > 0 && scale < INFINITY)) { /* one x (cannot be: the sites
+                                             * are distinct) or overflow */
+        sort_range(r, 0, m);
+        return;
+    }
+    uint32_t c[ROW_SORT * 64 + 1];
+    if (nb > ROW_SORT * 64) { /* a row too long for the counts here */
+        sort_range(r, 0, m);
+        return;
+    }
+    memset(c, 0, (nb + 1) * sizeof *c);
+    for (size_t j = 0; j < m; j++) {
+        size_t b = (size_t)((r[j].x - lo) * scale);
+        c[(b < nb ? b : nb - 1) + 1]++;
+    }
+    for (size_t b = 1; b <= nb; b++) c[b] += c[b - 1];
+    for (size_t j = 0; j < m; j++) {
+        size_t b = (size_t)((r[j].x - lo) * scale);
+        scratch[c[b < nb ? b : nb - 1]++] = r[j];
+    }
+    memcpy(r, scratch, m * sizeof *r);
+    for (size_t b = 0, start = 0; b < nb; start = c[b++])
+        sort_range(r, start, c[b]);
+}
+
 /* Distribution sort of a[0..n-1] by (y, x) into tmp: buckets of two
  * ranks' width under the map (about n / 2 of them), one counting pass,
  * one scatter, then each bucket sorted (sort_range). The map is monotone,
@@ -672,9 +721,13 @@ static keyed *bucket_sort(const ymap *m, keyed *a, keyed *tmp, size_t n) {
     for (size_t b = 1; b <= nb; b++) c[b] += c[b - 1]; /* starts */
     for (size_t j = 0; j < n; j++)
         tmp[c[ymap_rank(m, kdouble(a[j].k)) >> 1]++] = a[j];
-    /* now c[b] is the end of bucket b */
-    for (size_t b = 0, start = 0; b < nb; start = c[b++])
-        sort_range(tmp, start, c[b]);
+    /* now c[b] is the end of bucket b; a is free */
+    for (size_t b = 0, start = 0; b < nb; start = c[b++]) {
+        if (c[b] - start > ROW_SORT)
+            row_sort(tmp + start, c[b] - start, a + start);
+        else
+            sort_range(tmp, start, c[b]);
+    }
     free(c);
     return tmp;
 }

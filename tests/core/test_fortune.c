@@ -1711,6 +1711,58 @@ static void check_sweep_order(const char *name, const double *xy, size_t n) {
     vor_sites_free(s);
 }
 
+/* Long rows, which the site sort sorts by x apart (row_sort): rows of 300
+ * random x; rows whose x bunch near 0 with a few far out (one
+ * sub-bucket holds nearly all) or span more than the doubles (their
+ * range overflows: sorted by comparisons instead); one row of 9,000
+ * sites (longer than the counts on the stack) among a few others; and a
+ * dense band of distinct y beside a sparse spread (buckets of several y,
+ * if the map leaves any). Each against vor_check and the other
+ * algorithms. */
+static void test_long_rows(void **state) {
+    (void)state;
+    vt_rng r = {43};
+    enum { N = 9050 };
+    double *xy = malloc(2 * N * sizeof *xy);
+    assert_non_null(xy);
+    for (int kind = 0; kind < 5; kind++) {
+        size_t n = 0;
+        if (kind < 3) {
+            for (int row = 0; row < 30; row++)
+                for (int k = 0; k < 300; k++) {
+                    double x = vt_unit(&r);
+                    if (kind == 1) {
+                        x *= 1e-9;
+                        if (k % 100 == 0) x = (k % 200 ? 1e300 : -1e300) * vt_unit(&r);
+                    } else if (kind == 2 && k < 2) {
+                        x = k ? 1.7e308 : -1.7e308;
+                    }
+                    xy[2 * n] = x;
+                    xy[2 * n + 1] = row;
+                    n++;
+                }
+        } else if (kind == 3) {
+            for (int k = 0; k < 9000; k++, n++) {
+                xy[2 * n] = vt_unit(&r);
+                xy[2 * n + 1] = 0.5;
+            }
+            for (int k = 0; k < 50; k++, n++) {
+                xy[2 * n] = vt_unit(&r);
+                xy[2 * n + 1] = vt_unit(&r);
+            }
+        } else {
+            for (int k = 0; k < 9000; k++, n++) {
+                xy[2 * n] = vt_unit(&r);
+                xy[2 * n + 1] = k % 2 ? 0.5 + 1e-12 * vt_unit(&r) : vt_unit(&r);
+            }
+        }
+        char name[32];
+        snprintf(name, sizeof name, "long rows %d", kind);
+        check_points(name, xy, n, 1);
+    }
+    free(xy);
+}
+
 /* Hexagonal lattices in doubles (spacing 0.1: x = 0.1 i, shifted by half
  * a step on odd rows, y = 0.1 j sqrt(3) / 2, each rounded): most of
  * their triangles are translates of one another, or mirror images moved,
@@ -2454,6 +2506,7 @@ int main(void) {
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_circle_top_refined),
         cmocka_unit_test(test_circle_exact_small),
+        cmocka_unit_test(test_long_rows),
         cmocka_unit_test(test_site_first),
         cmocka_unit_test(test_exact_top),
         cmocka_unit_test(test_circle_cmp),
