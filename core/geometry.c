@@ -1,7 +1,7 @@
 /* geometry.c -- the two constructions every algorithm shares: the centre of
  * the circle through three sites (a Voronoi vertex) and the unit direction
  * of a bisector (a Voronoi ray); and the sites' bounding box, which the
- * insertion order and the predicates' static bounds both start from.
+ * insertion order and orient2d's static bound both start from.
  *
  * These produce output coordinates, not topology, so they are computed in
  * floating point (topology comes from the exact predicates). What they owe

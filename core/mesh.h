@@ -31,8 +31,8 @@
 
 /* Walk state kept between insertions: where the last point went (the next
  * one, close in insertion order, starts its walk there), the random bits
- * of the walk, and the static bounds (predicates.h) of orient2d and
- * incircle among the sites, for the walk and the construction's tests.
+ * of the walk, and the static bound (predicates.h) of orient2d among the
+ * sites, for the walk (incircle's bound is each test's own).
  * Also the construction's counts of predicate calls and walk steps
  * (vor_counts): vor__mesh_begin and vor__mesh_locate add theirs, the
  * algorithms theirs. */
