@@ -422,6 +422,22 @@ static void rotated(double u[3][2], double t[3][2], int rot) {
     }
 }
 
+/* vor__fortune_circle_top of the counter-clockwise triple u in range mode
+ * safe: 0 where the mode does not apply (sites outside the safe range) or
+ * the interval is unbounded; else 1 with [*lo, *hi], which must hold the
+ * exact top (GMP). */
+static int top_checked(double u[3][2], int safe, double *lo, double *hi) {
+    if (safe &&
+        !(in_safe_range(u[0]) && in_safe_range(u[1]) && in_safe_range(u[2])))
+        return 0;
+    assert_int_equal(vor__fortune_circle_top(u[0], u[1], u[2], safe, lo, hi), 1);
+    if (!isfinite(*lo)) return 0;
+    if (q_top_vs(u[0], u[1], u[2], *lo) < 0 || q_top_vs(u[0], u[1], u[2], *hi) > 0)
+        fail_msg("[%a, %a] misses the top of (%a, %a) (%a, %a) (%a, %a)", *lo,
+                 *hi, u[0][0], u[0][1], u[1][0], u[1][1], u[2][0], u[2][1]);
+    return 1;
+}
+
 static void check_dd_top(double t[3][2], double th, double tl, double err) {
     mpq_t X, Y, R2, c, e, z;
     mpq_inits(X, Y, R2, c, e, z, NULL);
@@ -573,18 +589,10 @@ static void test_circle_top_bounds(void **state) {
             double u[3][2];
             rotated(u, t, rot + 2);
             for (int safe = 0; safe < 2; safe++) {
-                if (safe && !(in_safe_range(u[0]) && in_safe_range(u[1]) &&
-                              in_safe_range(u[2])))
-                    continue;
                 double lo, hi;
-                assert_int_equal(
-                    vor__fortune_circle_top(u[0], u[1], u[2], safe, &lo, &hi),
-                    1);
-                if (!isfinite(lo)) continue;
+                if (!top_checked(u, safe, &lo, &hi)) continue;
                 tried++;
                 tight += hi - lo <= 0x1p-40 * fabs(lo) + 0x1p-1000;
-                assert_true(q_top_vs(u[0], u[1], u[2], lo) >= 0);
-                assert_true(q_top_vs(u[0], u[1], u[2], hi) <= 0);
             }
         }
         double th, tl, err;
@@ -704,20 +712,9 @@ static void test_circle_top_refined(void **state) {
             double u[3][2];
             rotated(u, t, rot);
             for (int safe = 0; safe < 2; safe++) {
-                if (safe && !(in_safe_range(u[0]) && in_safe_range(u[1]) &&
-                              in_safe_range(u[2])))
-                    continue;
                 double lo, hi;
-                assert_int_equal(
-                    vor__fortune_circle_top(u[0], u[1], u[2], safe, &lo, &hi),
-                    1);
-                if (!isfinite(lo)) continue;
+                if (!top_checked(u, safe, &lo, &hi)) continue;
                 tried++;
-                if (q_top_vs(u[0], u[1], u[2], lo) < 0 ||
-                    q_top_vs(u[0], u[1], u[2], hi) > 0)
-                    fail_msg("[%a, %a] misses the top of (%a, %a) (%a, %a) "
-                             "(%a, %a)", lo, hi, u[0][0], u[0][1], u[1][0],
-                             u[1][1], u[2][0], u[2][1]);
                 if (kind == 0) {
                     centred++;
                     narrow += hi - lo <= 0x1p-46 * fabs(hi);
@@ -802,6 +799,21 @@ static void test_site_first(void **state) {
         }
 }
 
+/* The circle c = {x, y, r^2} of triple t, said to be exact, must be the
+ * rational one (GMP). */
+static void check_exact_circle(double t[3][2], const double *c) {
+    mpq_t X, Y, R2, q;
+    mpq_inits(X, Y, R2, q, NULL);
+    q_circle(t[0], t[1], t[2], X, Y, R2);
+    mpq_set_d(q, c[0]);
+    assert_true(mpq_equal(q, X));
+    mpq_set_d(q, c[1]);
+    assert_true(mpq_equal(q, Y));
+    mpq_set_d(q, c[2]);
+    assert_true(mpq_equal(q, R2));
+    mpq_clears(X, Y, R2, q, NULL);
+}
+
 /* The small lattice's circle (vor__fortune_circle_exact_small) within its
  * precondition: coordinates m 2^k, |m| < 2^16, k from -300 to 40, spread
  * over the whole range or near one point, the extremes +-(2^16 - 1)
@@ -814,8 +826,6 @@ static void test_circle_exact_small(void **state) {
     vt_rng r = {seed};
     const int ks[] = {-300, -15, -3, 0, 7, 40};
     int n_exact = 0, n = 0;
-    mpq_t X, Y, R2, q;
-    mpq_inits(X, Y, R2, q, NULL);
     for (int it = 0; it < 60000; it++) {
         int k = ks[it % 6];
         long lim = (1L << 16) - 1, span = it % 3 == 0 ? lim : 20;
@@ -841,15 +851,8 @@ static void test_circle_exact_small(void **state) {
         if (!g1) continue;
         assert_memory_equal(c1, c2, sizeof c1);
         n_exact++;
-        q_circle(t[0], t[1], t[2], X, Y, R2);
-        mpq_set_d(q, c1[0]);
-        assert_true(mpq_equal(q, X));
-        mpq_set_d(q, c1[1]);
-        assert_true(mpq_equal(q, Y));
-        mpq_set_d(q, c1[2]);
-        assert_true(mpq_equal(q, R2));
+        check_exact_circle(t, c1);
     }
-    mpq_clears(X, Y, R2, q, NULL);
     print_message("circle_exact_small: %d of %d circles exact in doubles\n",
                   n_exact, n);
     assert_true(n_exact > n / 20);
@@ -999,16 +1002,7 @@ static void test_circle_cmp(void **state) {
         }
         double c1[3], c2[3];
         if (vor__fortune_circle_exact_double(t1[0], t1[1], t1[2], c1)) {
-            mpq_t X, Y, R2, q;
-            mpq_inits(X, Y, R2, q, NULL);
-            q_circle(t1[0], t1[1], t1[2], X, Y, R2);
-            mpq_set_d(q, c1[0]);
-            assert_true(mpq_equal(q, X));
-            mpq_set_d(q, c1[1]);
-            assert_true(mpq_equal(q, Y));
-            mpq_set_d(q, c1[2]);
-            assert_true(mpq_equal(q, R2));
-            mpq_clears(X, Y, R2, q, NULL);
+            check_exact_circle(t1, c1);
             if (vor__fortune_circle_exact_double(t2[0], t2[1], t2[2], c2) &&
                 c1[1] == c2[1] && c1[2] == c2[2])
                 assert_int_equal(want, c1[0] < c2[0] ? -1 : c1[0] > c2[0]);
