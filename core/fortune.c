@@ -204,6 +204,7 @@ typedef struct sweep {
     uint32_t finger[2];
     uint32_t finger_score;
     int list_only; /* no site left: arcs leave the list, not the tree */
+    int loose;     /* few sites left: the tree is no longer rebalanced */
 
     /* The event queue (see "Event queue"): n_heap live events in the
      * heap, n_bucketed in the buckets (while bhead is set), n_late in
@@ -1114,6 +1115,7 @@ static void insert_after(sweep *w, uint32_t x, uint32_t z) {
         ARC(nx).left = z;
         ARC(z).up = nx;
     }
+    if (w->loose) return; /* see LOOSE_SITES */
     while (RED(ARC(z).up)) {
         uint32_t p = ARC(z).up, g = ARC(p).up;
         if (p == ARC(g).left) {
@@ -1206,6 +1208,7 @@ static void remove_arc(sweep *w, uint32_t z) {
         ARC(ARC(y).left).up = y;
         RED(y) = RED(z);
     }
+    if (w->loose) return; /* see LOOSE_SITES */
     if (y_red) {
         RED(NIL) = 0;
         return;
@@ -2471,6 +2474,17 @@ static int event_first(sweep *w, const double *p) {
     return !f;
 }
 
+/* With this many sites left the beach line's tree is no longer
+ * rebalanced: an arc leaves it by the plain splice and a new one joins
+ * as a leaf. A splice never deepens a binary search tree, and each site
+ * left adds at most two levels, so the remaining searches stay within the
+ * red-black height plus 2 LOOSE_SITES steps. Sites in convex position
+ * below their circles' tops leave nearly every circle event to the last
+ * few sites (on 10^5 sites on a circle, to the last 15, whose y lie above
+ * most of the tops), and each of those removals rebalanced the tree at
+ * random places: a miss on a sibling at each level it walked up. */
+#define LOOSE_SITES 64
+
 /* Runs the sweep over all sites; *first receives the leftmost arc (site
  * 0's first arc, which stays leftmost: splits keep the left part and circle
  * events never remove an arc without a left neighbour). */
@@ -2527,6 +2541,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
             }
         }
         w->list_only = i == n;
+        w->loose = n - i <= LOOSE_SITES;
         if (q_size(w) > 0 &&
             (i == n || event_first(w, site_xy(w, (uint32_t)i)))) {
             const event *e = i == n ? q_top(w) : &w->heap[0];
