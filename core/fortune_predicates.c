@@ -641,8 +641,8 @@ static double orient_refined(const double *a, const double *b,
  * refined (orient_refined: ed is about 4u |d| where the float bound was
  * 2^-51 (|l| + |r|), a thousand times more for the thin triangles of
  * sites nearly on a circle). The general bound's slack, harmless for a
- * wide d, would then make the interval two hundred ulps wide, where the
- * tops of consecutive triples of 10^5 sites on a circle lie some
+ * wide d, would then make the interval some four hundred ulps wide, where
+ * the tops of consecutive triples of 10^5 sites on a circle lie
  * thousands of ulps apart: a tenth of their comparisons overlapped and
  * went to the double-double bounds, a fifth of Fortune's time there. So
  * each step is bounded as it is (u = 2^-53; each bound below holds to
@@ -652,6 +652,9 @@ static double orient_refined(const double *a, const double *b,
  *       t1 = cy b2 rounds three times (two squares and their sum, the
  *       product) and nx = t1 - t2 once: 3u (|t1| + |t2|) + u |nx|; with
  *       rounded differences (each within u of the exact one) 6u for 3u.
+ *       (A rounding error that the scaling by 2^-e took below 2^-1074,
+ *       and so counts as none, is below 2^-770 of its difference, at
+ *       least 2^-302: far inside the final factor.)
  *   ux: nx / (2d) against Nx / (2D), with |d - D| <= ed < |d| / 2:
  *       enx / (2|d|) + (|nx| + enx) ed / (2 |d| (|d| - ed)), and the
  *       rounded reciprocal and product 2u |ux|; likewise uy.

@@ -235,16 +235,16 @@ static inline int vor__incircle_fast_n(const double *a, const double *b,
  *
  * exceeds the dynamic bound of the call by a quarter of itself at least;
  * the absolute term dwarfs the at most 2^-1069 that underflowed products
- * can lose. Overflow: |det| and each of its terms are at most about 3 L^2,
- * so where 4 L^2 overflows S is infinite and decides nothing, and where it
- * does not, det is finite (a nan det decides nothing either). A computed |det| > S proves the sign as the
- * dynamic filter would. L scales with the four points' own extent, where
- * a bound from the span of all the sites (16 M^4, M the span) held for
- * configurations of that size only: at 10^6 gaussian sites, whose centre
- * is 40 times as dense as its bounding box on average, and at 10^7
- * uniform ones, most tests of the dense parts fell through it, and
- * Bowyer-Watson and flip ran 8% longer there, for the unpredictable
- * branch as much as for the permanent. */
+ * can lose. Overflow: |det| and each of its terms are at most about
+ * 3 L^2, so where 4 L^2 overflows S is infinite and decides nothing, and
+ * where it does not, det is finite (a nan det decides nothing either). A
+ * computed |det| > S proves the sign as the dynamic filter would. L
+ * scales with the four points' own extent, where a bound from the span of
+ * all the sites (16 M^4, M the span) held for configurations of that size
+ * only: at 10^6 gaussian sites, whose centre is 40 times as dense as its
+ * bounding box on average, and at 10^7 uniform ones, a large share of the
+ * tests fell through it, and Bowyer-Watson and flip ran 7-9% longer there,
+ * for the unpredictable branch as much as for the permanent. */
 
 /* The sign from the local bound alone, 0 when it cannot decide. */
 static inline __attribute__((always_inline)) int

@@ -430,9 +430,11 @@ static int top_checked(double u[3][2], int safe, double *lo, double *hi) {
     if (safe &&
         !(in_safe_range(u[0]) && in_safe_range(u[1]) && in_safe_range(u[2])))
         return 0;
-    assert_int_equal(vor__fortune_circle_top(u[0], u[1], u[2], safe, lo, hi), 1);
+    assert_int_equal(vor__fortune_circle_top(u[0], u[1], u[2], safe, lo, hi),
+                     1);
     if (!isfinite(*lo)) return 0;
-    if (q_top_vs(u[0], u[1], u[2], *lo) < 0 || q_top_vs(u[0], u[1], u[2], *hi) > 0)
+    if (q_top_vs(u[0], u[1], u[2], *lo) < 0 ||
+        q_top_vs(u[0], u[1], u[2], *hi) > 0)
         fail_msg("[%a, %a] misses the top of (%a, %a) (%a, %a) (%a, %a)", *lo,
                  *hi, u[0][0], u[0][1], u[1][0], u[1][1], u[2][0], u[2][1]);
     return 1;
@@ -697,11 +699,14 @@ static void test_circle_top_refined(void **state) {
                 }
             }
         } else { /* nearly on a line through a random point */
-            double px = rad * (vt_unit(&r) - 0.5), py = rad * (vt_unit(&r) - 0.5);
+            double px = rad * (vt_unit(&r) - 0.5),
+                   py = rad * (vt_unit(&r) - 0.5);
             double th = 6.283185307179586 * vt_unit(&r);
             double gap = rad * ldexp(1.0, -(int)(vt_next(&r) % 30));
-            double off = gap * ldexp(vt_unit(&r) - 0.5, -(int)(vt_next(&r) % 20));
-            double s[3] = {0, gap * (1 + vt_unit(&r)), gap * (2 + 2 * vt_unit(&r))};
+            double off =
+                gap * ldexp(vt_unit(&r) - 0.5, -(int)(vt_next(&r) % 20));
+            double s[3] = {0, gap * (1 + vt_unit(&r)),
+                           gap * (2 + 2 * vt_unit(&r))};
             for (int k = 0; k < 3; k++) {
                 t[k][0] = px + s[k] * cos(th) - (k == 1) * off * sin(th);
                 t[k][1] = py + s[k] * sin(th) + (k == 1) * off * cos(th);
@@ -1727,7 +1732,8 @@ static void test_long_rows(void **state) {
                     double x = vt_unit(&r);
                     if (kind == 1) {
                         x *= 1e-9;
-                        if (k % 100 == 0) x = (k % 200 ? 1e300 : -1e300) * vt_unit(&r);
+                        if (k % 100 == 0)
+                            x = (k % 200 ? 1e300 : -1e300) * vt_unit(&r);
                     } else if (kind == 2 && k < 2) {
                         x = k ? 1.7e308 : -1.7e308;
                     }
