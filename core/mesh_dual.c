@@ -518,7 +518,11 @@ static int sweep_records(dual *D) {
             const uint32_t ia = (uint32_t)(i + SWEEP_AHEAD);
             for (uint32_t p = cs[ia]; p < cs[ia + 1]; p++) {
                 uint32_t t = RT(p);
-                if (t != GHOST_T) __builtin_prefetch(vid + t, 1);
+                if (t != GHOST_T) {
+                    __builtin_prefetch(vid + t, 1);
+                    /* a polygon's smallest site (merged pass only) */
+                    if (min3) __builtin_prefetch(min3 + 3 * (size_t)t);
+                }
                 if (RW(p) < ia) __builtin_prefetch(rx + rx[p]);
             }
             /* a hull site's rays: its hull neighbours' points */
