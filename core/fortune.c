@@ -1790,7 +1790,8 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     if (w->known[r1] & w->known[r2] & KNOWN_TOP) return top_before(w, r1, r2);
     if (box == 0 && box_cmp(w, r1, r2, &c))
         goto decided;
-    if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, w->safe, &c) ||
+    if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, w->safe,
+                                   w->small, &c) ||
         vor__fortune_level_cmp(a1, b1, c1, a2, b2, c2, &c))
         goto decided;
     if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {

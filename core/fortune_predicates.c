@@ -1150,10 +1150,36 @@ static int centres_x(const double *const t1[3], const double *const t2[3],
     return *c != 0;
 }
 
+/* The order of the centres' x of t1 and of an image t2 of it whose
+ * centre is t1's mirrored in x and moved by vx (c2.x = -(c1.x + vx)):
+ * the sign of c1.x - c2.x = 2 c1.x + vx. On a small lattice (see
+ * vor__fortune_circle_exact_small; vx a difference of two of its x) that
+ * is exact in doubles: with the offsets from a = t1[0], 2 c1.x + vx =
+ * W + nx / d, W = 2 a.x + vx, so its sign is that of d times that of
+ * W d + nx. In units of the lattice's step h: |a.x|, |vx| < 2^17, so W
+ * takes 18 bits; d takes 35 and nx 53 (as there), W d at most 53, and
+ * the sum rounds once, which keeps its sign and its zero. Elsewhere the
+ * two centres' double-double bounds (centres_x). 1 with *c, else 0. */
+static int image_centres_x(const double *const t1[3],
+                           const double *const t2[3], double vx, int safe,
+                           int small, int *c) {
+    if (!small) return centres_x(t1, t2, safe, c);
+    const double *a = t1[0], *b = t1[1], *p = t1[2];
+    double bx = b[0] - a[0], by = b[1] - a[1];
+    double cx = p[0] - a[0], cy = p[1] - a[1];
+    double d = bx * cy - by * cx;
+    if (d == 0) return 0;
+    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    double nx = cy * b2 - by * c2;
+    double s = (2 * a[0] + vx) * d + nx;
+    *c = ((s > 0) - (s < 0)) * (d > 0 ? 1 : -1);
+    return 1;
+}
+
 int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *c1, const double *a2,
                                const double *b2, const double *c2, int safe,
-                               int *res) {
+                               int small, int *res) {
     const double *t1[3] = {a1, b1, c1}, *t2[3] = {a2, b2, c2}, *o1, *o2;
     if (moved(t1, t2, &o1, &o2)) {
         /* moved by o2 - o1: the top by its y, the centre by its x */
@@ -1172,7 +1198,8 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
         dd x1, x2;
         if (c == 0 && pair_centre(t1, 1, &x1) && pair_centre(t2, 1, &x2))
             c = sum_cmp(x1, x2);
-        else if (c == 0 && !centres_x(t1, t2, safe, &c))
+        else if (c == 0 &&
+                 !image_centres_x(t1, t2, o2[0] - o1[0], safe, small, &c))
             return 0;
         *res = c;
         return 1;
@@ -1197,7 +1224,8 @@ int vor__fortune_translate_cmp(const double *a1, const double *b1,
         c = (s.hi > 0) - (s.hi < 0);
         if (c == 0 && !half)
             c = (o1[0] > o2[0]) - (o1[0] < o2[0]);
-        else if (c == 0 && !centres_x(t1, t2, safe, &c))
+        else if (c == 0 &&
+                 !image_centres_x(t1, t2, o2[0] - o1[0], safe, small, &c))
             return 0;
         *res = c;
         return 1;

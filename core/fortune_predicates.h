@@ -264,17 +264,19 @@ int vor__fortune_exact_top(const double *circle, double *hi, double *lo);
  * rotation of the vertices), their circles' tops differ by its y and
  * their centres by its x; a translate of its mirror image (x negated)
  * moves the top the same way, and where the tops are level the centres'
- * x compare in sums (triangles with two level sites) or, with safe (the
- * range of vor__fortune_circle_top_dd), in double-double bounds. Images
- * turned upside down or by half a turn are taken where the triangles
- * have two sites of equal x, which gives their centres' y exactly. 1 with
- * *res what vor__fortune_circle_cmp_exact would return; else 0 (nothing
- * is known then). Grids of any spacing repeat every shape along their
- * rows, and its images. */
+ * x compare in sums (triangles with two level sites), exactly in doubles
+ * with small (all six sites on one small lattice, as
+ * vor__fortune_circle_exact_small takes them), or, with safe (the range
+ * of vor__fortune_circle_top_dd), in double-double bounds. Images turned
+ * upside down or by half a turn are taken where the triangles have two
+ * sites of equal x, which gives their centres' y exactly. 1 with *res
+ * what vor__fortune_circle_cmp_exact would return; else 0 (nothing is
+ * known then). Grids of any spacing repeat every shape along their rows,
+ * and its images. */
 int vor__fortune_translate_cmp(const double *a1, const double *b1,
                                const double *c1, const double *a2,
                                const double *b2, const double *c2, int safe,
-                               int *res);
+                               int small, int *res);
 
 /* vor__fortune_translate_cmp's first two cases in two steps, for callers
  * that keep each event's shape (the comparison inline: a lattice's ties

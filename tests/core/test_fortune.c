@@ -1013,7 +1013,7 @@ static void test_circle_cmp(void **state) {
                 assert_int_equal(want, c1[0] < c2[0] ? -1 : c1[0] > c2[0]);
         }
         if (vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
-                                       t2[2], safe_pair, &res)) {
+                                       t2[2], safe_pair, 0, &res)) {
             found[made]++;
             assert_int_equal(res, want);
         }
@@ -1263,9 +1263,9 @@ static void test_turned_cmp(void **state) {
                      *e2[3] = {t2[0], t2[1], t2[2]};
         int res;
         if (!vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
-                                        t2[2], 0, &res) &&
+                                        t2[2], 0, 0, &res) &&
             !vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
-                                        t2[2], 1, &res))
+                                        t2[2], 1, 0, &res))
             continue;
         found[half]++;
         int want = q_event_cmp(e1, e2);
@@ -1277,6 +1277,80 @@ static void test_turned_cmp(void **state) {
                   found[0], made[0], found[1], made[1], equal_tops);
     assert_true(found[0] > made[0] / 4 && found[1] > made[1] / 4);
     assert_true(equal_tops > 1000);
+}
+
+/* Triangles of a small lattice (m 2^k, |m| < 2^15, k from -300 to 40)
+ * against their mirror images (x negated) and their images turned by
+ * half a turn, moved so that the tops are equal or a step apart: with
+ * small set, vor__fortune_translate_cmp orders the centres of equal tops
+ * in doubles, and must decide every such pair as the exact order does,
+ * including those without two level sites (no exact sum for the centre)
+ * and those whose centres lie one above the other. */
+static void test_image_cmp_small(void **state) {
+    (void)state;
+    vt_rng r = {4747};
+    print_message("image_cmp_small: seed 4747\n");
+    int made = 0, decided = 0, equal_tops = 0, same_x = 0, unlevel = 0;
+    for (int it = 0; it < 20000; it++) {
+        int k = (int)(vt_next(&r) % 341) - 300, half = it % 2;
+        double h = ldexp(1.0, k), t1[3][2], t2[3][2];
+        long span = it % 3 == 0 ? 8 : 1L << 13;
+        /* one time in eight, three of the twelve lattice points at
+         * distance 5 from a lattice point (cx, cy): a centre known */
+        static const int p5[12][2] = {{5, 0}, {4, 3}, {3, 4}, {0, 5},
+                                      {-3, 4}, {-4, 3}, {-5, 0}, {-4, -3},
+                                      {-3, -4}, {0, -5}, {3, -4}, {4, -3}};
+        int on5 = it % 8 == 7;
+        long cx = (long)(vt_next(&r) % 2000) - 1000,
+             cy = (long)(vt_next(&r) % 2000) - 1000;
+        for (int a = 0; a < 3; a++) {
+            const int *q = p5[vt_next(&r) % 12];
+            for (int j = 0; j < 2; j++)
+                t1[a][j] = h * (on5 ? (double)((j ? cy : cx) + q[j])
+                                    : (double)((long)(vt_next(&r) %
+                                                      (2 * span + 1)) -
+                                               span));
+        }
+        if (half) { /* a vertical pair gives the centre's y: equal tops */
+            t1[1][0] = t1[0][0];
+            if (t1[1][1] == t1[0][1]) continue;
+        }
+        if (!make_ccw(t1)) continue;
+        /* the move: x anywhere, or (about the circle of 5) so that the
+         * centres' x are equal (-c + wx = c); y so that the tops are
+         * equal or, one time in four, a step apart */
+        double wx = on5 ? 2 * h * (double)cx
+                        : h * (double)((long)(vt_next(&r) % (1L << 14)) -
+                                       (1L << 13));
+        double wy = half ? t1[0][1] + t1[1][1] : 0;
+        if (vt_next(&r) % 4 == 0) wy += h;
+        for (int a = 0; a < 3; a++) {
+            /* a mirror image reversed, to stay counter-clockwise */
+            const double *q = half ? t1[a] : t1[2 - a];
+            t2[a][0] = -q[0] + wx;
+            t2[a][1] = (half ? -q[1] : q[1]) + wy;
+        }
+        made++;
+        const double *e1[3] = {t1[0], t1[1], t1[2]},
+                     *e2[3] = {t2[0], t2[1], t2[2]};
+        int res, want = q_event_cmp(e1, e2);
+        int level = t1[0][1] == t1[1][1] || t1[1][1] == t1[2][1] ||
+                    t1[0][1] == t1[2][1];
+        assert_true(vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0],
+                                               t2[1], t2[2], 0, 1, &res));
+        decided++;
+        assert_int_equal(res, want);
+        if (q_equal_tops(e1, e2, NULL)) {
+            equal_tops++;
+            unlevel += !level;
+            same_x += want == 0;
+        }
+    }
+    print_message("image_cmp_small: %d of %d decided, %d at equal tops (%d "
+                  "without a level pair), %d at one point\n",
+                  decided, made, equal_tops, unlevel, same_x);
+    assert_true(made > 15000 && equal_tops > made / 2);
+    assert_true(unlevel > equal_tops / 2 && same_x > 100);
 }
 
 /* Triangles of a decimal lattice in doubles (0.37 by 0.11, rounded), and
@@ -1333,7 +1407,7 @@ static void test_shape_cmp(void **state) {
         assert_int_equal(res, q_event_cmp(e1, e2));
         /* its first two cases decide whatever the shapes decide */
         if (vor__fortune_translate_cmp(t1[0], t1[1], t1[2], t2[0], t2[1],
-                                       t2[2], 1, &tres)) {
+                                       t2[2], 1, 0, &tres)) {
             assert_int_equal(res, tres);
             agreed++;
         }
@@ -2513,6 +2587,7 @@ int main(void) {
         cmocka_unit_test(test_box_cmp),
         cmocka_unit_test(test_level_cmp),
         cmocka_unit_test(test_turned_cmp),
+        cmocka_unit_test(test_image_cmp_small),
         cmocka_unit_test(test_shape_cmp),
         cmocka_unit_test(test_trivial_inputs),
         cmocka_unit_test(test_equal_y_first),
