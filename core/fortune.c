@@ -1794,7 +1794,12 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
                                    w->small, &c) ||
         vor__fortune_level_cmp(a1, b1, c1, a2, b2, c2, &c))
         goto decided;
-    if (w->lattice && event_dd(w, r1, &d1) && event_dd(w, r2, &d2)) {
+    /* the bounds separate nearly equal tops of a lattice; on a small one
+     * the integers below are cheaper than two records' bounds, and the
+     * ties that come this far are equal tops, which no bounds separate
+     * (16 k of 10^5 integer pixels, none decided here) */
+    if (w->lattice && !w->small && event_dd(w, r1, &d1) &&
+        event_dd(w, r2, &d2)) {
         c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
         if (c != 0) return c < 0;
     }
