@@ -2398,6 +2398,9 @@ static vor_status site_event(sweep *w, uint32_t i) {
  */
 static vor_status circle_event(sweep *w, uint32_t b) {
     uint32_t a = ARC(b).prev, c = ARC(b).next;
+    /* the arcs next to a and c, which their renewals read */
+    __builtin_prefetch(&w->arcs[ARC(a).prev]);
+    __builtin_prefetch(&w->arcs[ARC(c).next]);
     /* the breakpoints converge: orient2d(a, b, c) > 0 */
     uint32_t h = tri_new(w, ARC(a).site, ARC(b).site, ARC(c).site);
     edge_end(w, ARC(a).edge, h);
