@@ -18,7 +18,8 @@
  *      triangles) are exactly cocircular (vor_incircle == 0) and form a
  *      strictly convex counter-clockwise polygon whose sides are exactly the
  *      vertex's edges, and its three smallest sites are vertex_sites;
- *   6. the dual triangulation (vor_diagram_triangles): counter-clockwise
+ *   6. the dual triangulation (from the cells, as vor_diagram_triangles
+ *      derives it where a vertex has more than three sites): counter-clockwise
  *      triangles, every interior edge shared by exactly two of them in
  *      opposite directions, every site used, Euler's relation, boundary one
  *      closed convex counter-clockwise cycle winding once (the convex hull),
@@ -683,7 +684,7 @@ int vor_check(const vor_diagram *d, const vor_sites *sites, char *msg,
 
     dual D;
     memset(&D, 0, sizeof D);
-    vor_status st = vor_diagram_triangles(d, sites, &D.tri, &D.nt);
+    vor_status st = vor__diagram_triangles_cells(d, sites, &D.tri, &D.nt);
     if (st != VOR_OK) {
         return fail(&c, st == VOR_ENOMEM ? "out of memory"
                                           : "cells do not chain around the "

@@ -787,9 +787,13 @@ fail:
  * v's circle. Collecting that successor for every (vertex, site) pair gives
  * each vertex's sites in counter-clockwise order, which are fanned from the
  * smallest site. Triangles are emitted in vertex order. O(n) time; scratch
- * of about 4 words per (vertex, site) pair. */
-vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
-                                 uint32_t **out, size_t *n_tri) {
+ * of about 4 words per (vertex, site) pair, every one of them visited at
+ * random (a vertex's pairs come from three cells far apart in site
+ * order): at 10^6 uniform sites this took 430 to 600 ms, more than two
+ * thirds of the diagram's own computation. */
+vor_status vor__diagram_triangles_cells(const vor_diagram *d,
+                                        const vor_sites *sites,
+                                        uint32_t **out, size_t *n_tri) {
     vor_status st = VOR_ENOMEM;
     uint32_t *off = NULL, *cur = NULL, *pairs = NULL, *nxt = NULL;
     uint32_t *stamp = NULL, *tri = NULL;
@@ -891,6 +895,61 @@ fail:
     free(stamp);
     free(tri);
     return st;
+}
+
+/* How many vertices ahead the triangles of degree-3 vertices prefetch
+ * their second and third sites. */
+#define TRI_AHEAD 32
+
+/* When every vertex has three sites (no four cocircular: the usual case),
+ * each is one triangle, its vertex_sites put counter-clockwise: the
+ * smallest first, as the fan from the cells starts, then the other two in
+ * the order the exact orient2d gives. That every vertex has three shows in
+ * the count of edge ends alone: each vertex has at least three, so they
+ * total 3 n_vertices only if none has more. One pass in vertex order, the
+ * second and third sites' points prefetched; the first site is
+ * nondecreasing. Otherwise (grids, pixels, points on a circle) the cells
+ * are walked (vor__diagram_triangles_cells), which defines the result and
+ * which the checker uses. */
+vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
+                                 uint32_t **out, size_t *n_tri) {
+    if (!out || !n_tri) return VOR_EINVAL;
+    *out = NULL;
+    *n_tri = 0;
+    if (!d || !sites || d->n_sites != sites->n) return VOR_EINVAL;
+    const size_t nv = d->n_vertices, ne = d->n_edges, n = d->n_sites;
+    size_t ends = 0;
+    for (size_t k = 0; k < 2 * ne; k++) ends += d->edge_ends[k] >= 0;
+    if (nv == 0 || ends != 3 * nv)
+        return vor__diagram_triangles_cells(d, sites, out, n_tri);
+    uint32_t *tri = xmalloc(3 * nv, sizeof *tri);
+    if (!tri) return VOR_ENOMEM;
+    const uint32_t *vs = d->vertex_sites;
+    const double *xy = sites->xy;
+    for (size_t v = 0; v < nv; v++) {
+        if (v + TRI_AHEAD < nv) {
+            const uint32_t *a = vs + 3 * (v + TRI_AHEAD);
+            if (a[1] < n && a[2] < n) {
+                __builtin_prefetch(xy + 2 * (size_t)a[1]);
+                __builtin_prefetch(xy + 2 * (size_t)a[2]);
+            }
+        }
+        uint32_t a = vs[3 * v], b = vs[3 * v + 1], c = vs[3 * v + 2];
+        if (a >= n || b >= n || c >= n) goto invalid;
+        int o = vor__orient2d_fast(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
+                                   xy + 2 * (size_t)c);
+        if (o == 0) goto invalid;
+        tri[3 * v] = a;
+        tri[3 * v + 1] = o > 0 ? b : c;
+        tri[3 * v + 2] = o > 0 ? c : b;
+    }
+    *out = tri;
+    *n_tri = nv;
+    return VOR_OK;
+
+invalid:
+    free(tri);
+    return VOR_EINVAL;
 }
 
 /* ---- comparing ----------------------------------------------------------- */

@@ -624,7 +624,7 @@ static void test_allocation_failures(void **state) {
     vor_sites *s = sites_of(pts, 8);
     bf_voronoi b;
     assert_int_equal(bf_voronoi_make(s, &b), 0);
-    long k, total[4] = {0};
+    long k, total[5] = {0};
 
     for (k = 0;; k++) { /* vor__diagram_build */
         uint32_t *edges;
@@ -659,21 +659,27 @@ static void test_allocation_failures(void **state) {
         assert_null(d);
     }
     total[1] = k;
-    for (k = 0;; k++) { /* vor_diagram_triangles */
-        uint32_t *tri = (uint32_t *)1;
-        size_t nt = 9;
-        fault_arm(k);
-        vor_status st = vor_diagram_triangles(good, s, &tri, &nt);
-        fault_disarm();
-        if (st == VOR_OK) {
-            free(tri);
-            break;
+    /* vor_diagram_triangles (its vertices have three sites each), then
+     * the cells' walk */
+    for (int cells = 0; cells < 2; cells++) {
+        for (k = 0;; k++) {
+            uint32_t *tri = (uint32_t *)1;
+            size_t nt = 9;
+            fault_arm(k);
+            vor_status st =
+                cells ? vor__diagram_triangles_cells(good, s, &tri, &nt)
+                      : vor_diagram_triangles(good, s, &tri, &nt);
+            fault_disarm();
+            if (st == VOR_OK) {
+                free(tri);
+                break;
+            }
+            assert_int_equal(st, VOR_ENOMEM);
+            assert_null(tri);
+            assert_int_equal(nt, 0);
         }
-        assert_int_equal(st, VOR_ENOMEM);
-        assert_null(tri);
-        assert_int_equal(nt, 0);
+        total[2 + 2 * cells] = k;
     }
-    total[2] = k;
     vor_diagram_free(good);
     bf_free(&b);
     sites_done(s);
@@ -695,8 +701,10 @@ static void test_allocation_failures(void **state) {
     total[3] = k;
     sites_done(s);
     printf("allocations failed in turn: build %ld, mesh conversion %ld, "
-           "triangles %ld, degenerate %ld\n", total[0], total[1], total[2], total[3]);
-    assert_true(total[0] >= 8 && total[1] >= 10 && total[2] >= 4 && total[3] >= 8);
+           "triangles %ld (from the cells %ld), degenerate %ld\n",
+           total[0], total[1], total[2], total[4], total[3]);
+    assert_true(total[0] >= 8 && total[1] >= 10 && total[2] >= 1 &&
+                total[4] >= 4 && total[3] >= 8);
 }
 
 /* ---- equality and the dispatcher ----------------------------------------- */
@@ -753,6 +761,64 @@ static void test_compute_arguments(void **state) {
     sites_done(s);
 }
 
+/* vor_diagram_triangles reads vertex_sites where every vertex has three
+ * sites and walks the cells otherwise: on every standard set and every
+ * distribution of the service, by each algorithm, it must give the cells'
+ * triangles exactly (vor__diagram_triangles_cells: the definition). The
+ * sets without four cocircular sites must take the first way (each vertex
+ * three edge ends), and some with them the second. */
+static void test_triangles_from_vertices(void **state) {
+    (void)state;
+    static const char *const dists[] = {"uniform", "gaussian", "clustered",
+                                        "lognormal", "outlier", "decades",
+                                        "pixels", "grid", "circle"};
+    const size_t nd = sizeof dists / sizeof dists[0];
+    int generic = 0, cocircular = 0;
+    for (size_t i = 0; i < vt_count() + nd; i++) {
+        vt_set set = {0};
+        if (i < vt_count()) {
+            assert_int_equal(vt_make(i, &set), 0);
+        } else {
+            set.name = dists[i - vt_count()];
+            set.n = 3000;
+            set.xy = vt_distribution(set.name, set.n, 7);
+            assert_non_null(set.xy);
+        }
+        vor_sites *s = NULL;
+        if (vor_sites_new(set.xy, set.n, &s, NULL) != VOR_OK || s->n < 3) {
+            vor_sites_free(s);
+            vt_set_free(&set);
+            continue;
+        }
+        for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+            vor_diagram *d = NULL;
+            assert_int_equal(vor_compute(s, (vor_algorithm)a, &d), VOR_OK);
+            uint32_t *t1 = NULL, *t2 = NULL;
+            size_t n1 = 0, n2 = 0, ends = 0;
+            assert_int_equal(vor_diagram_triangles(d, s, &t1, &n1), VOR_OK);
+            assert_int_equal(vor__diagram_triangles_cells(d, s, &t2, &n2),
+                             VOR_OK);
+            if (n1 != n2 || (n1 && memcmp(t1, t2, 12 * n1) != 0))
+                fail_msg("%s by %s: the triangles differ from the cells'",
+                         set.name, vor_algorithm_name((vor_algorithm)a));
+            for (size_t k = 0; k < 2 * d->n_edges; k++)
+                ends += d->edge_ends[k] >= 0;
+            if (d->n_vertices) {
+                generic += ends == 3 * d->n_vertices;
+                cocircular += ends != 3 * d->n_vertices;
+            }
+            free(t1);
+            free(t2);
+            vor_diagram_free(d);
+        }
+        vor_sites_free(s);
+        vt_set_free(&set);
+    }
+    print_message("triangles_from_vertices: %d diagrams of three sites a "
+                  "vertex, %d with more\n", generic, cocircular);
+    assert_true(generic >= 15 && cocircular >= 9);
+}
+
 int main(void) {
     /* VOR_TEST_FILTER / VOR_TEST_SKIP: run a subset (glob on test names) */
     if (getenv("VOR_TEST_FILTER")) cmocka_set_test_filter(getenv("VOR_TEST_FILTER"));
@@ -762,6 +828,7 @@ int main(void) {
         cmocka_unit_test(test_obtuse_triangle),
         cmocka_unit_test(test_bounded_cell),
         cmocka_unit_test(test_brute_force_shuffled),
+        cmocka_unit_test(test_triangles_from_vertices),
         cmocka_unit_test(test_mesh_to_diagram),
         cmocka_unit_test(test_large_buckets),
         cmocka_unit_test(test_degenerate),
