@@ -789,7 +789,7 @@ fail:
  * smallest site. Triangles are emitted in vertex order. O(n) time; scratch
  * of about 4 words per (vertex, site) pair, every one of them visited at
  * random (a vertex's pairs come from three cells far apart in site
- * order): at 10^6 uniform sites this took 430 to 600 ms, more than two
+ * order): at 10^6 uniform sites this took 435 to 600 ms, more than two
  * thirds of the diagram's own computation. */
 vor_status vor__diagram_triangles_cells(const vor_diagram *d,
                                         const vor_sites *sites,

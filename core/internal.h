@@ -283,8 +283,9 @@ vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out);
 
 /* vor_diagram_triangles by walking the cells, whatever the vertices'
  * degrees: the definition of its result, and the checker's derivation of
- * the dual triangles, which reads nothing but the cells and edges
- * (diagram.c). */
+ * the dual triangles, which takes each vertex's sites and their order
+ * from the cells and edges, and of vertex_sites only the first, checked
+ * to be one of them (diagram.c). */
 vor_status vor__diagram_triangles_cells(const vor_diagram *d,
                                         const vor_sites *sites,
                                         uint32_t **out, size_t *n_tri);
