@@ -897,20 +897,118 @@ fail:
     return st;
 }
 
+/* Orders (site, neighbour) pairs by site, then neighbour. */
+static int cmp_pair(const void *p, const void *q) {
+    const uint32_t *a = p, *b = q;
+    if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* A vertex of at most this many sites finds a site's neighbours by a
+ * scan of its edges' pairs; a larger one sorts them. */
+#define FAN_SCAN 16
+
+/* The two neighbours *u, *w of site x on a vertex's circle, from its k
+ * edges' site pairs at pr: k pairs as they are (k <= FAN_SCAN), or 2k
+ * (site, neighbour) pairs sorted by cmp_pair. 1 if x has exactly two,
+ * else 0. */
+static int fan_nbrs(const uint32_t *pr, size_t k, uint32_t x, uint32_t *u,
+                    uint32_t *w) {
+    if (k <= FAN_SCAN) {
+        uint32_t got[2];
+        int c = 0;
+        for (size_t j = 0; j < k; j++) {
+            uint32_t a = pr[2 * j], b = pr[2 * j + 1], y;
+            if (a == x)
+                y = b;
+            else if (b == x)
+                y = a;
+            else
+                continue;
+            if (c == 2) return 0;
+            got[c++] = y;
+        }
+        if (c != 2) return 0;
+        *u = got[0];
+        *w = got[1];
+        return 1;
+    }
+    size_t m = 2 * k, lo = 0, hi = m;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (pr[2 * mid] < x)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo + 1 >= m || pr[2 * lo] != x || pr[2 * lo + 2] != x ||
+        (lo + 2 < m && pr[2 * lo + 4] == x))
+        return 0;
+    *u = pr[2 * lo + 1];
+    *w = pr[2 * lo + 3];
+    return 1;
+}
+
+/* The fan of a vertex of k > 3 sites, from the k edges at it (ids at
+ * ed): each joins two sites next to each other on the vertex's circle,
+ * so the edges' site pairs give each site its two neighbours (fan_nbrs;
+ * scratch pr, 4k words); the smallest site s0 goes first and its
+ * successor counter-clockwise is the neighbour q with exact orient2d(p,
+ * s0, q) > 0 (the sites are in convex position). k - 2 triangles into
+ * out. 0 on success, -1 if the edges name a site out of range or do not
+ * make one cycle through s0. */
+static int fan_of(const vor_diagram *d, const double *xy, const uint32_t *ed,
+                  size_t k, uint32_t s0, uint32_t *pr, uint32_t *out) {
+    for (size_t j = 0; j < k; j++) {
+        const uint32_t *ab = d->edge_sites + 2 * (size_t)ed[j];
+        if (ab[0] >= d->n_sites || ab[1] >= d->n_sites) return -1;
+        if (k <= FAN_SCAN) {
+            pr[2 * j] = ab[0];
+            pr[2 * j + 1] = ab[1];
+            continue;
+        }
+        pr[4 * j] = ab[0];
+        pr[4 * j + 1] = ab[1];
+        pr[4 * j + 2] = ab[1];
+        pr[4 * j + 3] = ab[0];
+    }
+    if (k > FAN_SCAN) qsort(pr, 2 * k, 2 * sizeof *pr, cmp_pair);
+    uint32_t u, w;
+    if (!fan_nbrs(pr, k, s0, &u, &w) || u == w) return -1;
+    int o = vor__orient2d_fast(xy + 2 * (size_t)u, xy + 2 * (size_t)s0,
+                               xy + 2 * (size_t)w);
+    if (o == 0) return -1;
+    uint32_t prev = s0, cur = o > 0 ? w : u;
+    for (size_t t = 0; t + 2 < k; t++) {
+        if (!fan_nbrs(pr, k, cur, &u, &w)) return -1;
+        uint32_t next = u == prev ? w : u;
+        if ((u != prev && w != prev) || next == s0) return -1;
+        out[3 * t] = s0;
+        out[3 * t + 1] = cur;
+        out[3 * t + 2] = next;
+        prev = cur;
+        cur = next;
+    }
+    /* the cycle closes at s0 after k sites */
+    if (!fan_nbrs(pr, k, cur, &u, &w) || (u != s0 && w != s0)) return -1;
+    return 0;
+}
+
 /* How many vertices ahead the triangles of degree-3 vertices prefetch
  * their second and third sites. */
 #define TRI_AHEAD 32
 
-/* When every vertex has three sites (no four cocircular: the usual case),
- * each is one triangle, its vertex_sites put counter-clockwise: the
- * smallest first, as the fan from the cells starts, then the other two in
- * the order the exact orient2d gives. That every vertex has three shows in
- * the count of edge ends alone: each vertex has at least three, so they
- * total 3 n_vertices only if none has more. One pass in vertex order, the
- * second and third sites' points prefetched; the first site is
- * nondecreasing. Otherwise (grids, pixels, points on a circle) the cells
- * are walked (vor__diagram_triangles_cells), which defines the result and
- * which the checker uses. */
+/* A vertex of three sites is one triangle: its vertex_sites put
+ * counter-clockwise, the smallest first, as the fan from the cells
+ * starts, then the other two in the order the exact orient2d gives; a
+ * vertex of more is fanned from its edges (fan_of). Every vertex has at
+ * least three edge ends, so when they total 3 n_vertices (no four sites
+ * cocircular: the usual case) none has more, and one pass in vertex
+ * order does it, the second and third sites' points prefetched (the
+ * first is nondecreasing). Otherwise the degrees are counted and the
+ * edges of the vertices of more than three collected first. The result
+ * is that of the cells' walk (vor__diagram_triangles_cells), which
+ * defines it and which the checker uses. */
 vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
                                  uint32_t **out, size_t *n_tri) {
     if (!out || !n_tri) return VOR_EINVAL;
@@ -918,14 +1016,46 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
     *n_tri = 0;
     if (!d || !sites || d->n_sites != sites->n) return VOR_EINVAL;
     const size_t nv = d->n_vertices, ne = d->n_edges, n = d->n_sites;
+    if (nv == 0) return vor__diagram_triangles_cells(d, sites, out, n_tri);
+    vor_status st = VOR_ENOMEM;
+    uint32_t *deg = NULL, *hoff = NULL, *hedge = NULL, *pr = NULL, *tri = NULL;
     size_t ends = 0;
     for (size_t k = 0; k < 2 * ne; k++) ends += d->edge_ends[k] >= 0;
-    if (nv == 0 || ends != 3 * nv)
-        return vor__diagram_triangles_cells(d, sites, out, n_tri);
-    uint32_t *tri = xmalloc(3 * nv, sizeof *tri);
-    if (!tri) return VOR_ENOMEM;
+    size_t ntri = nv, kmax = 3;
+    if (ends != 3 * nv) {
+        /* degrees; then, for the vertices of more than three, their
+         * edges (CSR: hoff[v] their first, filled from the end) */
+        deg = calloc(nv, sizeof *deg);
+        hoff = xmalloc(nv + 1, sizeof *hoff);
+        if (!deg || !hoff) goto fail;
+        for (size_t k = 0; k < 2 * ne; k++) {
+            int32_t v = d->edge_ends[k];
+            if (v < 0) continue;
+            if ((size_t)v >= nv) goto invalid;
+            deg[v]++;
+        }
+        size_t h = 0;
+        ntri = 0;
+        for (size_t v = 0; v < nv; v++) {
+            if (deg[v] < 3) goto invalid;
+            ntri += deg[v] - 2;
+            if (deg[v] > 3) h += deg[v];
+            if (deg[v] > kmax) kmax = deg[v];
+            hoff[v] = (uint32_t)h;
+        }
+        hedge = xmalloc(h ? h : 1, sizeof *hedge);
+        pr = xmalloc(4 * kmax, sizeof *pr);
+        if (!hedge || !pr) goto fail;
+        for (size_t k = 0; k < 2 * ne; k++) {
+            int32_t v = d->edge_ends[k];
+            if (v >= 0 && deg[v] > 3) hedge[--hoff[v]] = (uint32_t)(k / 2);
+        }
+    }
+    tri = xmalloc(3 * ntri, sizeof *tri);
+    if (!tri) goto fail;
     const uint32_t *vs = d->vertex_sites;
     const double *xy = sites->xy;
+    size_t nt = 0;
     for (size_t v = 0; v < nv; v++) {
         if (v + TRI_AHEAD < nv) {
             const uint32_t *a = vs + 3 * (v + TRI_AHEAD);
@@ -936,20 +1066,37 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
         }
         uint32_t a = vs[3 * v], b = vs[3 * v + 1], c = vs[3 * v + 2];
         if (a >= n || b >= n || c >= n) goto invalid;
+        if (deg && deg[v] > 3) {
+            if (fan_of(d, xy, hedge + hoff[v], deg[v], a, pr, tri + 3 * nt))
+                goto invalid;
+            nt += deg[v] - 2;
+            continue;
+        }
         int o = vor__orient2d_fast(xy + 2 * (size_t)a, xy + 2 * (size_t)b,
                                    xy + 2 * (size_t)c);
         if (o == 0) goto invalid;
-        tri[3 * v] = a;
-        tri[3 * v + 1] = o > 0 ? b : c;
-        tri[3 * v + 2] = o > 0 ? c : b;
+        tri[3 * nt] = a;
+        tri[3 * nt + 1] = o > 0 ? b : c;
+        tri[3 * nt + 2] = o > 0 ? c : b;
+        nt++;
     }
+    free(deg);
+    free(hoff);
+    free(hedge);
+    free(pr);
     *out = tri;
-    *n_tri = nv;
+    *n_tri = nt;
     return VOR_OK;
 
 invalid:
+    st = VOR_EINVAL;
+fail:
+    free(deg);
+    free(hoff);
+    free(hedge);
+    free(pr);
     free(tri);
-    return VOR_EINVAL;
+    return st;
 }
 
 /* ---- comparing ----------------------------------------------------------- */

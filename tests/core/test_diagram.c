@@ -624,7 +624,7 @@ static void test_allocation_failures(void **state) {
     vor_sites *s = sites_of(pts, 8);
     bf_voronoi b;
     assert_int_equal(bf_voronoi_make(s, &b), 0);
-    long k, total[5] = {0};
+    long k, total[6] = {0};
 
     for (k = 0;; k++) { /* vor__diagram_build */
         uint32_t *edges;
@@ -659,18 +659,26 @@ static void test_allocation_failures(void **state) {
         assert_null(d);
     }
     total[1] = k;
-    /* vor_diagram_triangles (its vertices have three sites each), then
-     * the cells' walk */
-    for (int cells = 0; cells < 2; cells++) {
+    /* vor_diagram_triangles (its vertices have three sites each), the
+     * cells' walk, and vor_diagram_triangles on a grid of nine points
+     * (vertices of four sites) */
+    static const double g9[] = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1,
+                                2, 1, 0, 2, 1, 2, 2, 2};
+    vor_sites *sg = sites_of(g9, 9);
+    vor_diagram *dg = NULL;
+    assert_int_equal(vor_compute(sg, VOR_FLIP, &dg), VOR_OK);
+    for (int way = 0; way < 3; way++) {
         for (k = 0;; k++) {
             uint32_t *tri = (uint32_t *)1;
             size_t nt = 9;
             fault_arm(k);
             vor_status st =
-                cells ? vor__diagram_triangles_cells(good, s, &tri, &nt)
-                      : vor_diagram_triangles(good, s, &tri, &nt);
+                way == 1 ? vor__diagram_triangles_cells(good, s, &tri, &nt)
+                : way == 0 ? vor_diagram_triangles(good, s, &tri, &nt)
+                           : vor_diagram_triangles(dg, sg, &tri, &nt);
             fault_disarm();
             if (st == VOR_OK) {
+                if (way == 2) assert_int_equal(nt, 8);
                 free(tri);
                 break;
             }
@@ -678,8 +686,10 @@ static void test_allocation_failures(void **state) {
             assert_null(tri);
             assert_int_equal(nt, 0);
         }
-        total[2 + 2 * cells] = k;
+        total[way == 0 ? 2 : way == 1 ? 4 : 5] = k;
     }
+    vor_diagram_free(dg);
+    sites_done(sg);
     vor_diagram_free(good);
     bf_free(&b);
     sites_done(s);
@@ -701,10 +711,11 @@ static void test_allocation_failures(void **state) {
     total[3] = k;
     sites_done(s);
     printf("allocations failed in turn: build %ld, mesh conversion %ld, "
-           "triangles %ld (from the cells %ld), degenerate %ld\n",
-           total[0], total[1], total[2], total[4], total[3]);
+           "triangles %ld (from the cells %ld, of a grid %ld), degenerate "
+           "%ld\n", total[0], total[1], total[2], total[4], total[5],
+           total[3]);
     assert_true(total[0] >= 8 && total[1] >= 10 && total[2] >= 1 &&
-                total[4] >= 4 && total[3] >= 8);
+                total[4] >= 4 && total[5] >= 5 && total[3] >= 8);
 }
 
 /* ---- equality and the dispatcher ----------------------------------------- */
@@ -761,12 +772,13 @@ static void test_compute_arguments(void **state) {
     sites_done(s);
 }
 
-/* vor_diagram_triangles reads vertex_sites where every vertex has three
- * sites and walks the cells otherwise: on every standard set and every
- * distribution of the service, by each algorithm, it must give the cells'
- * triangles exactly (vor__diagram_triangles_cells: the definition). The
- * sets without four cocircular sites must take the first way (each vertex
- * three edge ends), and some with them the second. */
+/* vor_diagram_triangles reads vertex_sites where a vertex has three
+ * sites and fans a vertex of more from its edges: on every standard set
+ * and every distribution of the service, by each algorithm, it must give
+ * the cells' triangles exactly (vor__diagram_triangles_cells: the
+ * definition). The sets without four cocircular sites must take the
+ * first way alone (each vertex three edge ends), and some have vertices
+ * of more. */
 static void test_triangles_from_vertices(void **state) {
     (void)state;
     static const char *const dists[] = {"uniform", "gaussian", "clustered",
@@ -774,10 +786,16 @@ static void test_triangles_from_vertices(void **state) {
                                         "pixels", "grid", "circle"};
     const size_t nd = sizeof dists / sizeof dists[0];
     int generic = 0, cocircular = 0;
-    for (size_t i = 0; i < vt_count() + nd; i++) {
+    size_t kmax = 0;
+    for (size_t i = 0; i < vt_count() + nd + 1; i++) {
         vt_set set = {0};
         if (i < vt_count()) {
             assert_int_equal(vt_make(i, &set), 0);
+        } else if (i == vt_count() + nd) {
+            /* the 180 integer points on x^2 + y^2 = 5525^2: one vertex */
+            set.name = "integer circle";
+            set.xy = vt_int_circle(5525, 0, &set.n);
+            assert_non_null(set.xy);
         } else {
             set.name = dists[i - vt_count()];
             set.n = 3000;
@@ -803,6 +821,8 @@ static void test_triangles_from_vertices(void **state) {
                          set.name, vor_algorithm_name((vor_algorithm)a));
             for (size_t k = 0; k < 2 * d->n_edges; k++)
                 ends += d->edge_ends[k] >= 0;
+            if (d->n_vertices && ends - 3 * (d->n_vertices - 1) > kmax)
+                kmax = ends - 3 * (d->n_vertices - 1); /* a lower bound */
             if (d->n_vertices) {
                 generic += ends == 3 * d->n_vertices;
                 cocircular += ends != 3 * d->n_vertices;
@@ -815,8 +835,9 @@ static void test_triangles_from_vertices(void **state) {
         vt_set_free(&set);
     }
     print_message("triangles_from_vertices: %d diagrams of three sites a "
-                  "vertex, %d with more\n", generic, cocircular);
-    assert_true(generic >= 15 && cocircular >= 9);
+                  "vertex, %d with more; a vertex of at least %zu sites\n",
+                  generic, cocircular, kmax);
+    assert_true(generic >= 15 && cocircular >= 9 && kmax >= 100);
 }
 
 int main(void) {
