@@ -1027,7 +1027,7 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
          * edges (CSR: hoff[v] their first, filled from the end) */
         deg = calloc(nv, sizeof *deg);
         hoff = xmalloc(nv + 1, sizeof *hoff);
-        if (!deg || !hoff) goto fail;
+        if (!deg || !hoff) goto done;
         for (size_t k = 0; k < 2 * ne; k++) {
             int32_t v = d->edge_ends[k];
             if (v < 0) continue;
@@ -1045,14 +1045,14 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
         }
         hedge = xmalloc(h ? h : 1, sizeof *hedge);
         pr = xmalloc(4 * kmax, sizeof *pr);
-        if (!hedge || !pr) goto fail;
+        if (!hedge || !pr) goto done;
         for (size_t k = 0; k < 2 * ne; k++) {
             int32_t v = d->edge_ends[k];
             if (v >= 0 && deg[v] > 3) hedge[--hoff[v]] = (uint32_t)(k / 2);
         }
     }
     tri = xmalloc(3 * ntri, sizeof *tri);
-    if (!tri) goto fail;
+    if (!tri) goto done;
     const uint32_t *vs = d->vertex_sites;
     const double *xy = sites->xy;
     size_t nt = 0;
@@ -1080,17 +1080,15 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
         tri[3 * nt + 2] = o > 0 ? c : b;
         nt++;
     }
-    free(deg);
-    free(hoff);
-    free(hedge);
-    free(pr);
     *out = tri;
     *n_tri = nt;
-    return VOR_OK;
+    tri = NULL;
+    st = VOR_OK;
+    goto done; /* to free the scratch */
 
 invalid:
     st = VOR_EINVAL;
-fail:
+done:
     free(deg);
     free(hoff);
     free(hedge);
