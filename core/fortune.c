@@ -35,9 +35,10 @@
  *     cancelled far-future events.) The queue is a set of buckets by the
  *     estimated rank of an event's y among the sites' while sites remain,
  *     O(1) per operation whatever the sites' distribution in y, and a
- *     binary heap when buckets crowd, after the last site (unless many
- *     events are left: buckets fitted to them) and for small inputs (see
- *     "Event queue"). Sites are not in the queue: the next
+ *     binary heap when buckets crowd (unless the crowd is large: then
+ *     buckets fitted to it), after the last site (unless many events are
+ *     left: buckets fitted to them) and for small inputs (see "Event
+ *     queue"). Sites are not in the queue: the next
  *     site in sorted order is compared with the earliest event.
  *   - Output: the Delaunay triangulation the sweep discovers, in the
  *     ghost-closed form of mesh.h, handed to vor__mesh_dual() (mesh_dual.c),
@@ -216,6 +217,12 @@ typedef struct sweep {
     uint32_t cur;      /* the buckets below cur are poured into the heap */
     uint32_t n_bucketed;
     ymap ymap;         /* bucket of lo: its rank estimate (see ymap) */
+    /* near buckets (see spill): n_near of them, fitted to events that
+     * crowded the heap, NULL when none; near_cur and n_nearq as cur and
+     * n_bucketed; the heap spills when it holds more than spill_at */
+    uint32_t *nhead;
+    uint32_t n_near, near_cur, n_nearq, spill_at;
+    ymap nmap;
     event *ekey;       /* per record: its event (buckets and late[]) */
     uint32_t *blink;   /* per record: previous and next in its bucket */
     evrec *recs;
@@ -1938,6 +1945,9 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * narrower than a bin, an event whose interval has no upper bound) the
  * buckets pour into the heap, which then serves whatever the input.
  *
+ * A crowd of thousands (the events above a long row of sites of one y)
+ * spills from the heap into near buckets fitted to it (see spill).
+ *
  * After the last site the sites' map sends every event to the last
  * bucket; when many events remain (sites on a parabola or near a line
  * leave half of them), the map is fitted to them instead (refit), and the
@@ -1957,6 +1967,8 @@ static void heap_remove(sweep *w, uint32_t pos) {
  * its pass for this many events; else they stay where they are. */
 #define REFIT_MIN 4096
 #define LATE 0x80000000u /* hpos: the event waits in late[] */
+/* The heap spills into near buckets when it holds more than this. */
+#define SPILL_MIN 2048
 
 static inline uint32_t ev_bucket(const sweep *w, double lo) {
     return ymap_rank(&w->ymap, lo);
@@ -1970,36 +1982,48 @@ static inline int in_heap(const sweep *w, uint32_t r) {
     return p < w->n_heap && w->heap[p].rec == r;
 }
 
-/* Links record r, whose event is set, into bucket k (k >= cur). */
+/* Links record r, whose event is set, into bucket k: a bucket of the
+ * sites' map if k < n_buckets (k >= cur), else near bucket k - n_buckets
+ * (>= near_cur). hpos holds k. */
 static void bucket_link(sweep *w, uint32_t r, uint32_t k) {
-    uint32_t h = w->bhead[k];
+    uint32_t *head = k < w->n_buckets ? &w->bhead[k]
+                                      : &w->nhead[k - w->n_buckets];
+    uint32_t h = *head;
     w->hpos[r] = k;
     w->blink[2 * r] = NO_EVENT;
     w->blink[2 * r + 1] = h;
     if (h != NO_EVENT) w->blink[2 * h] = r;
-    w->bhead[k] = r;
-    w->n_bucketed++;
+    *head = r;
+    if (k < w->n_buckets)
+        w->n_bucketed++;
+    else
+        w->n_nearq++;
 }
 
 static void bucket_unlink(sweep *w, uint32_t r) {
-    uint32_t p = w->blink[2 * r], q = w->blink[2 * r + 1];
+    uint32_t p = w->blink[2 * r], q = w->blink[2 * r + 1], k = w->hpos[r];
     if (p != NO_EVENT)
         w->blink[2 * p + 1] = q;
+    else if (k < w->n_buckets)
+        w->bhead[k] = q;
     else
-        w->bhead[w->hpos[r]] = q;
+        w->nhead[k - w->n_buckets] = q;
     if (q != NO_EVENT) w->blink[2 * q] = p;
-    w->n_bucketed--;
+    if (k < w->n_buckets)
+        w->n_bucketed--;
+    else
+        w->n_nearq--;
 }
 
-/* Pours bucket cur into the heap and moves cur past it: its events are
- * put in one by one when they are fewer than the heap's, else the heap
- * is built anew (Floyd). */
-static void pour(sweep *w) {
-    uint32_t r = w->bhead[w->cur], n0 = w->n_heap;
-    w->bhead[w->cur++] = NO_EVENT;
+/* Pours a bucket's list, from record r, into the heap (count: the
+ * events left in its kind of bucket): its events are put in one by one
+ * when they are fewer than the heap's, else the heap is built anew
+ * (Floyd). */
+static void pour_list(sweep *w, uint32_t r, uint32_t *count) {
+    uint32_t n0 = w->n_heap;
     for (; r != NO_EVENT; r = w->blink[2 * r + 1]) {
         heap_put(w, w->n_heap++, w->ekey[r]);
-        w->n_bucketed--;
+        --*count;
     }
     if (w->n_heap - n0 > n0) {
         for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
@@ -2008,13 +2032,115 @@ static void pour(sweep *w) {
     for (uint32_t j = n0; j < w->n_heap; j++) sift_up(w, j, w->heap[j]);
 }
 
+/* Pours bucket cur, and moves cur past it; likewise near bucket
+ * near_cur. */
+static void pour(sweep *w) {
+    uint32_t r = w->bhead[w->cur];
+    w->bhead[w->cur++] = NO_EVENT;
+    pour_list(w, r, &w->n_bucketed);
+}
+
+static void pour_near(sweep *w) {
+    uint32_t r = w->nhead[w->near_cur];
+    w->nhead[w->near_cur++] = NO_EVENT;
+    pour_list(w, r, &w->n_nearq);
+}
+
+static void near_free(sweep *w) {
+    free(w->nhead);
+    free(w->nmap.block);
+    free(w->nmap.grid);
+    w->nhead = NULL;
+    memset(&w->nmap, 0, sizeof w->nmap);
+    w->n_near = w->near_cur = w->n_nearq = 0;
+}
+
+/* Near buckets. Sites of one y (a row: time series sampled at equal
+ * steps, or columns once turned) make a crowd: each site of the row adds
+ * events whose tops lie just above the row, all in the row's bucket,
+ * which the sweep has reached, so they go into the heap, whose size the
+ * row's length then sets (10^4 sites to a row: 16 k events, every
+ * operation some 14 levels of comparisons of nearly equal tops). Once
+ * the heap holds more than spill_at events, a map fitted to their lo
+ * (ymap_build, as refit does) spreads them over near buckets, one per
+ * event, and events that would go into the heap later go there too if
+ * their near bucket is not yet poured; front pours them like the
+ * others. Where the fitted map cannot spread them (equal tops, which no
+ * map separates) the heap keeps them and tries again only at twice the
+ * size. When the near buckets are empty they are freed. */
+static void spill(sweep *w) {
+    uint32_t m = w->n_heap;
+    w->spill_at = m < UINT32_MAX / 2 ? 2 * m : UINT32_MAX;
+    if ((uint64_t)w->n_buckets + m >= LATE) return;
+    keyed *a = malloc((size_t)m * sizeof *a);
+    uint32_t *head = malloc((size_t)m * sizeof *head);
+    ymap nm;
+    memset(&nm, 0, sizeof nm);
+    if (!a || !head) goto out;
+    uint64_t kmin = UINT64_MAX, kmax = 0;
+    for (uint32_t j = 0; j < m; j++) {
+        uint64_t key = dkey(w->heap[j].lo + 0.0);
+        a[j].k = key;
+        a[j].i = j;
+        kmin = key < kmin ? key : kmin;
+        kmax = key > kmax ? key : kmax;
+    }
+    if (ymap_build(&nm, a, m, kmin, kmax) != VOR_OK) goto out;
+    /* spread enough? */
+    memset(head, 0, (size_t)m * sizeof *head);
+    uint32_t most = 0;
+    for (uint32_t j = 0; j < m; j++) {
+        uint32_t c = ++head[ymap_rank(&nm, w->heap[j].lo)];
+        most = c > most ? c : most;
+    }
+    if (most > m / 16) goto out;
+    memset(head, 0xff, (size_t)m * sizeof *head);
+    w->nhead = head;
+    w->nmap = nm;
+    w->n_near = m;
+    w->near_cur = 0;
+    w->n_nearq = 0;
+    for (uint32_t j = 0; j < m; j++) {
+        event e = w->heap[j];
+        w->ekey[e.rec] = e;
+        bucket_link(w, e.rec, w->n_buckets + ymap_rank(&nm, e.lo));
+    }
+    w->n_heap = 0;
+    free(a);
+    return;
+out:
+    free(nm.block);
+    free(nm.grid);
+    free(a);
+    free(head);
+}
+
 /* Pours buckets into the heap until its top is the earliest event (see
- * above), or until bucket last is poured: past it, an event starts after
- * anything that maps to last. */
-static void front(sweep *w, uint32_t last) {
-    while (w->n_bucketed && w->cur <= last &&
-           (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur))
-        pour(w);
+ * above: its hi maps below cur, and below near_cur under the near
+ * buckets' map), or until the buckets of y are poured (last: the sites'
+ * bucket of y): past them, an event starts after y. Spills the heap
+ * first if it has grown past spill_at, and frees the near buckets once
+ * they are empty. */
+static void front(sweep *w, uint32_t last, double y) {
+    if (!w->n_heap)
+        w->spill_at = SPILL_MIN;
+    else if (w->n_heap > w->spill_at && w->bhead && !w->nhead)
+        spill(w);
+    uint32_t last2 = w->nhead ? ymap_rank(&w->nmap, y) : 0;
+    for (;;) {
+        if (w->n_nearq && w->near_cur <= last2 &&
+            (!w->n_heap || ymap_rank(&w->nmap, w->heap[0].hi) >= w->near_cur)) {
+            pour_near(w);
+            continue;
+        }
+        if (w->n_bucketed && w->cur <= last &&
+            (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur)) {
+            pour(w);
+            continue;
+        }
+        break;
+    }
+    if (w->nhead && !w->n_nearq) near_free(w);
 }
 
 /* The map of y to buckets need not be the sites': any monotone map keeps
@@ -2033,6 +2159,8 @@ static void front(sweep *w, uint32_t last) {
  * them (see sweep_run). Fitting earlier, while events still bunch among
  * the sites, measured slower than the heap. VOR_ENOMEM if out of memory. */
 static vor_status refit(sweep *w) {
+    while (w->n_nearq) pour_near(w); /* the heap's events are taken too */
+    if (w->nhead) near_free(w);
     size_t m = (size_t)w->n_heap + w->n_bucketed + w->n_late, k = 0;
     keyed *a = malloc(m * sizeof *a);
     if (!a) return VOR_ENOMEM;
@@ -2107,6 +2235,10 @@ static void late_remove(sweep *w, uint32_t r) {
 static void q_put(sweep *w, event e) {
     if (w->bhead) {
         uint32_t k = ev_bucket(w, e.lo);
+        if (k < w->cur && w->nhead) {
+            uint32_t k2 = ymap_rank(&w->nmap, e.lo);
+            if (k2 >= w->near_cur) k = w->n_buckets + k2;
+        }
         if (k >= w->cur) {
             w->ekey[e.rec] = e;
             bucket_link(w, e.rec, k);
@@ -2127,12 +2259,12 @@ static void late_flush(sweep *w) {
 
 /* The number of events in the queue, late[] aside. */
 static inline uint32_t q_size(const sweep *w) {
-    return w->n_heap + w->n_bucketed;
+    return w->n_heap + w->n_bucketed + w->n_nearq;
 }
 
 /* The earliest event (the queue is not empty). */
 static inline const event *q_top(sweep *w) {
-    front(w, UINT32_MAX);
+    front(w, UINT32_MAX, INFINITY);
     return &w->heap[0];
 }
 
@@ -2445,7 +2577,8 @@ static int site_before(sweep *w, const double *p, const uint32_t *t) {
  * often meets every site of a row), then integers for small lattices,
  * then the exact comparison. */
 static int event_first(sweep *w, const double *p) {
-    if (w->n_bucketed) front(w, ev_bucket(w, p[1]));
+    if (w->bhead && (w->n_bucketed || w->n_nearq || w->n_heap > w->spill_at))
+        front(w, ev_bucket(w, p[1]), p[1]);
     if (!w->n_heap) return 0;
     const event *e = &w->heap[0];
     w->cnt.event_compares++;
@@ -2587,6 +2720,9 @@ static void sweep_free(sweep *w) {
     free(w->rec_block);
     free(w->shapes);
     vor__scratch_free(w->bhead);
+    free(w->nhead);
+    free(w->nmap.block);
+    free(w->nmap.grid);
     free(w->ymap.block);
     free(w->ymap.grid);
     free(w->ehe);
@@ -2714,6 +2850,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.n_arcs = 1;
     w.free_arcs = NIL;
     w.free_recs = NO_EVENT;
+    w.spill_at = SPILL_MIN;
 
     uint32_t first;
     st = sweep_run(&w, &first);

@@ -1953,6 +1953,36 @@ static void test_after_last_site(void **state) {
     counts_of("two rows of 10000 integer sites", xy, N, &c);
 }
 
+/* Rows of equal y, long enough that the events each row's sites make,
+ * whose tops lie just above the row, crowd the heap: it spills into near
+ * buckets fitted to them, and the queue orders them in a few comparisons
+ * each (10.8 each with the heap alone, 3.1 with the near buckets); the
+ * same with one more site just above the last row. Then rows of equally
+ * spaced integer x, whose rectangles' events all have one top, which no
+ * map spreads (the heap keeps them). Each against the other
+ * algorithms. */
+static void test_crowded_rows(void **state) {
+    (void)state;
+    enum { ROWS = 4, PER = 3000, N = ROWS * PER + 1 };
+    static double xy[2 * N];
+    vt_rng r = {67};
+    print_message("crowded rows: seed 67\n");
+    for (size_t i = 0; i < ROWS * PER; i++) {
+        xy[2 * i] = vt_unit(&r);
+        xy[2 * i + 1] = (double)(i / PER);
+    }
+    compares_under("4 rows of 3000 random x", xy, ROWS * PER, 4);
+    xy[2 * ROWS * PER] = 0.5;
+    xy[2 * ROWS * PER + 1] = ROWS - 1 + 0x1p-40;
+    vor_counts c;
+    counts_of("the same and a site just above", xy, N, &c);
+    for (size_t i = 0; i < ROWS * PER; i++) {
+        xy[2 * i] = (double)(i % PER);
+        xy[2 * i + 1] = 1000.0 * (double)(i / PER);
+    }
+    counts_of("4 rows of x = 0 .. 2999, 1000 apart", xy, ROWS * PER, &c);
+}
+
 /* Data far from the origin for its extent: the sweep moves it to an
  * origin within it (choose_frame), exactly, so that a grid at 2^50 is
  * swept as the same grid at 0 -- every count the same -- and keeps its
@@ -2600,6 +2630,7 @@ int main(void) {
         cmocka_unit_test(test_offset_frames),
         cmocka_unit_test(test_curves),
         cmocka_unit_test(test_after_last_site),
+        cmocka_unit_test(test_crowded_rows),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_wide_sets),
         cmocka_unit_test(test_sort_paths),
