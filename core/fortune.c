@@ -890,22 +890,34 @@ static double bulk_scale(const vor_sites *s, frame f, int emax, double mn,
  * sites log-uniform in x over 2^-60 .. 2^60, uniform in y in [0, 1]:
  * 268 k exact comparisons, 434 ms; turned, 11 k, 36 ms). A 1000 x 1
  * box or ellipse gains a tenth to a fifth, 30 rows of equal y 1000 long
- * a tenth. But sites of equal sweep coordinate cost more than a long
- * beach line: 100 columns of equal x, 10^4 sites each in [0, 1], took
- * 19% longer swept along x (each column's events crowd between it and
- * the next). So the sweep keeps y when a sample of the sites has fewer
- * distinct x than distinct y. Short of four, lattices decide, not the
+ * a tenth. Columns of equal x in such a box (samples at equal steps of
+ * time, say) are the harder case. Swept along them, every site stays on
+ * the beach line until the sweep is half a column's gap past it: with
+ * columns shorter than half their gap, all of them at once (10^6 sites
+ * in 1000 columns in [0, 1]: a beach line of 10^6 arcs, 1.7-2.3 s).
+ * Swept across, each column is a row of equal sweep coordinate whose
+ * events crowd the gap to the next (see spill): cheaper, unless the rows
+ * are very long (the same sites: 1.07-1.23 s; 100 columns of 10^4 sites,
+ * 1.2-1.3 s along and 1.4-1.8 s across; 10^5 sites in 10 columns, 95-122
+ * ms along, 108-164 across, in 30 columns 99-130 along and 84-97
+ * across). So the sweep keeps y only when a sample of the sites has
+ * fewer distinct x than distinct y and the columns hold more than
+ * LONG_ROW sites each on average (n over the sample's distinct x, which
+ * is at least that average). Short of four, lattices decide, not the
  * box: a hexagonal lattice of horizontal rows is swept twice as fast
  * across its rows as along them (cocircular rectangles appear), while
  * other grids gain a little. */
+#define LONG_ROW 4096
 static frame choose_frame(const vor_sites *s, int *safe, int *lattice,
                           int *small) {
     frame f = {{0, 0}, 1.0, 1.0, 0};
     double box[4];
     vor__bbox(s->xy, s->n, box);
     double hx = box[2] * 0.5 - box[0] * 0.5, hy = box[3] * 0.5 - box[1] * 0.5;
-    f.turn = hy > 0 && hx > 4 * hy &&
-             distinct_in_sample(s, 0) >= distinct_in_sample(s, 1);
+    if (hy > 0 && hx > 4 * hy) {
+        size_t dx = distinct_in_sample(s, 0);
+        f.turn = dx >= distinct_in_sample(s, 1) || s->n <= LONG_ROW * dx;
+    }
     f.off[0] = axis_offset(box[0], box[2]);
     f.off[1] = axis_offset(box[1], box[3]);
     double mx = 0, mn = INFINITY;

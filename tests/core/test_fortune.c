@@ -1983,6 +1983,27 @@ static void test_crowded_rows(void **state) {
     counts_of("4 rows of x = 0 .. 2999, 1000 apart", xy, ROWS * PER, &c);
 }
 
+/* Columns of equal x in a box more than four times wider than tall:
+ * swept along y, every site would stay on the beach line until the
+ * sweep is half a column's gap past it, all of them here; the sweep runs
+ * along x instead (choose_frame), where the beach line stays short. */
+static void test_columns(void **state) {
+    (void)state;
+    enum { COLS = 100, PER = 300, N = COLS * PER };
+    static double xy[2 * N];
+    vt_rng r = {71};
+    print_message("columns: seed 71\n");
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = (double)(i % COLS);
+        xy[2 * i + 1] = vt_unit(&r);
+    }
+    vor_counts c;
+    counts_of("100 columns of 300 sites", xy, N, &c);
+    print_message("  beach line: at most %llu arcs\n",
+                  (unsigned long long)c.beach_max);
+    assert_true(c.beach_max < N / 8);
+}
+
 /* Data far from the origin for its extent: the sweep moves it to an
  * origin within it (choose_frame), exactly, so that a grid at 2^50 is
  * swept as the same grid at 0 -- every count the same -- and keeps its
@@ -2631,6 +2652,7 @@ int main(void) {
         cmocka_unit_test(test_curves),
         cmocka_unit_test(test_after_last_site),
         cmocka_unit_test(test_crowded_rows),
+        cmocka_unit_test(test_columns),
         cmocka_unit_test(test_extreme_ranges),
         cmocka_unit_test(test_wide_sets),
         cmocka_unit_test(test_sort_paths),
