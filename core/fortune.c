@@ -234,6 +234,9 @@ typedef struct sweep {
     double ylast;   /* the last site's y */
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     double *boxes; /* 4 per record: see event_box() */
+    /* 3 per record: the y of the triple's left site, the top's height
+     * above it and that height's error bound (see off_before) */
+    double *offs;
     double *shapes; /* VOR__FORTUNE_SHAPE per record: see event_shape() */
     uint8_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
@@ -1477,7 +1480,7 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
 static int recs_resize(sweep *w, uint32_t cap) {
     size_t c = cap, k = w->n_recs;
     /* widest alignment first */
-    size_t bytes = c * (10 * sizeof(double) + 2 * sizeof(event) +
+    size_t bytes = c * (13 * sizeof(double) + 2 * sizeof(event) +
                         sizeof(evrec) + 5 * sizeof(uint32_t) + 1);
     char *p = malloc(bytes);
     /* apart: see event_shape */
@@ -1489,7 +1492,8 @@ static int recs_resize(sweep *w, uint32_t cap) {
     }
     double *cache = (double *)p;
     double *boxes = cache + 6 * c;
-    event *heap = (event *)(boxes + 4 * c);
+    double *offs = boxes + 4 * c;
+    event *heap = (event *)(offs + 3 * c);
     event *ekey = heap + c;
     evrec *recs = (evrec *)(ekey + c);
     uint32_t *blink = (uint32_t *)(recs + c);
@@ -1499,6 +1503,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     if (k) {
         memcpy(cache, w->cache, 6 * k * sizeof *cache);
         memcpy(boxes, w->boxes, 4 * k * sizeof *boxes);
+        memcpy(offs, w->offs, 3 * k * sizeof *offs);
         memcpy(shapes, w->shapes, VOR__FORTUNE_SHAPE * k * sizeof *shapes);
         memcpy(heap, w->heap, k * sizeof *heap);
         memcpy(ekey, w->ekey, k * sizeof *ekey);
@@ -1513,6 +1518,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     w->rec_block = p;
     w->cache = cache;
     w->boxes = boxes;
+    w->offs = offs;
     w->shapes = shapes;
     w->heap = heap;
     w->ekey = ekey;
@@ -1771,6 +1777,23 @@ static inline int same_top(sweep *w, const double *e1, const double *e2,
     return 1;
 }
 
+/* Off a lattice, where equal tops are rare: 1 with *before if the
+ * events of records r1, r2 separate by their tops' heights above their
+ * left sites (vor__fortune_off_cmp). Their intervals' widths are set
+ * by the sites' y: sites on rows at y = 300 with x jittered by 10^-12,
+ * whose cells' tops differ by about that much, overlapped in nearly
+ * every comparison of the events of a row (600 of them in the heap at a
+ * time, 10^5 sites), and each event needed its double-double bounds. */
+static inline int off_before(sweep *w, uint32_t r1, uint32_t r2,
+                             int *before) {
+    const double *o1 = w->offs + 3 * (size_t)r1,
+                 *o2 = w->offs + 3 * (size_t)r2;
+    int c;
+    if (!vor__fortune_off_cmp(o1[0], o1 + 1, o2[0], o2 + 1, &c)) return 0;
+    *before = c < 0;
+    return 1;
+}
+
 /* Order of the events of records r1, r2 whose float intervals overlap (see
  * ev_before): cheapest first. Two cells of a grid compare in sums, two
  * circles known exactly in doubles prove equal tops, translates (and
@@ -1851,6 +1874,7 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
     if (y->hi < x->lo) return 0;
     uint8_t k = w->known[x->rec] & w->known[y->rec];
     int c;
+    if (!w->lattice && off_before(w, x->rec, y->rec, &c)) return c;
     if (w->lattice && (k & KNOWN_EXACT)) {
         /* both circles known exactly: equal ones decide here, without
          * the calls of ev_tie and its reads of six sites (a grid's
@@ -2326,13 +2350,16 @@ static void drop_event(sweep *w, uint32_t b) {
 
 /* The circle event of arc b's current triple: 1 with its interval if the
  * breakpoints around b converge (exact orient2d > 0), else 0. */
-static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
+static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi,
+                           double *off) {
     const arc *x = &w->arcs[b];
     if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
     if (ARC(x->prev).site == z->site) return 0;
     w->cnt.circle_tops++;
-    int o = vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi);
+    off[0] = x->lxy[1];
+    int o = vor__fortune_circle_top_off(x->lxy, x->xy, z->xy, w->safe, lo,
+                                        hi, off + 1);
     /* collinear: only exact arithmetic says so (the callers count the
      * converging triples whose top has no bound, as they read lo) */
     if (o == 0) w->cnt.circle_top_exact++;
@@ -2393,12 +2420,13 @@ static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
  * converge. b must have no event. VOR_ENOMEM if the heap cannot grow. */
 static vor_status add_event(sweep *w, uint32_t b) {
     assert(ARC(b).ev == NO_EVENT);
-    double lo, hi;
-    if (!event_of(w, b, &lo, &hi)) return VOR_OK;
+    double lo, hi, off[3];
+    if (!event_of(w, b, &lo, &hi, off)) return VOR_OK;
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
+    memcpy(w->offs + 3 * (size_t)r, off, sizeof off);
     narrow(w, r, &lo, &hi);
     q_insert(w, (event){lo, hi, r, b});
     ARC(b).ev = r;
@@ -2414,13 +2442,14 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     if (r == NO_EVENT) return add_event(w, b);
     w->cnt.false_alarms++; /* the old triple's event will not happen */
     if (w->tracing) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
-    double lo, hi;
-    if (!event_of(w, b, &lo, &hi)) {
+    double lo, hi, off[3];
+    if (!event_of(w, b, &lo, &hi, off)) {
         drop_event(w, b);
         return VOR_OK;
     }
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     rec_fill(w, r, b);
+    memcpy(w->offs + 3 * (size_t)r, off, sizeof off);
     narrow(w, r, &lo, &hi);
     q_update(w, (event){lo, hi, r, b});
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);

@@ -678,8 +678,9 @@ static inline double refined_err(double ux, double uy, double rr, double eux,
     return kx * eux + ky * euy;
 }
 
-int vor__fortune_circle_top(const double *a, const double *b, const double *c,
-                            int safe, double *lo, double *hi) {
+static inline __attribute__((always_inline)) int
+circle_top(const double *a, const double *b, const double *c, int safe,
+           double *lo, double *hi, double *off) {
     double bx = b[0] - a[0], by = b[1] - a[1];
     double cx = c[0] - a[0], cy = c[1] - a[1];
     int e = 0;
@@ -762,6 +763,12 @@ int vor__fortune_circle_top(const double *a, const double *b, const double *c,
         g = ldexp(g, e);
         err = ldexp(err, e) + 0x1p-1060;
     }
+    if (off) {
+        /* the error of g, as the bounds below take it */
+        off[0] = g;
+        off[1] = refined ? err * (1 + 0x1p-40) : 2 * err;
+        if (!(off[1] <= DBL_MAX) || !(fabs(g) <= DBL_MAX)) off[1] = -1;
+    }
     double t = a[1] + g;
     if (refined)
         err = (err + 0x1p-52 * fabs(t)) * (1 + 0x1p-40);
@@ -778,7 +785,19 @@ undecided: {
 unknown:
     *lo = -INFINITY;
     *hi = INFINITY;
+    if (off) off[1] = -1;
     return 1;
+}
+
+int vor__fortune_circle_top(const double *a, const double *b, const double *c,
+                            int safe, double *lo, double *hi) {
+    return circle_top(a, b, c, safe, lo, hi, NULL);
+}
+
+int vor__fortune_circle_top_off(const double *a, const double *b,
+                                const double *c, int safe, double *lo,
+                                double *hi, double *off) {
+    return circle_top(a, b, c, safe, lo, hi, off);
 }
 
 /* ---- Double-double evaluation of the top ------------------------------------

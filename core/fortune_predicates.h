@@ -159,6 +159,44 @@ static inline int vor__fortune_bp_side(const double *a, const double *b,
 int vor__fortune_circle_top(const double *a, const double *b, const double *c,
                             int safe, double *lo, double *hi);
 
+/* The same, with the top's height above a (y = a.y + g): off[0] = g and
+ * off[1] a bound on its error, or off[1] = -1 where the interval is
+ * unbounded. Two tops close together far from zero (a row of sites at
+ * y = 300, say) overlap in their intervals, whose width the rounding of
+ * a.y + g sets, but their heights above their sites' y differ by much
+ * more than the heights' errors (see vor__fortune_off_cmp). */
+int vor__fortune_circle_top_off(const double *a, const double *b,
+                                const double *c, int safe, double *lo,
+                                double *hi, double *off);
+
+/* The order of two tops a1.y + g1 and a2.y + g2 (off1, off2 as from
+ * vor__fortune_circle_top_off, y1 = a1.y, y2 = a2.y): 1 with *c the sign
+ * of their difference if the errors allow, else 0. Exact: the
+ * difference of the y is exact with its two_diff error term, and every
+ * other rounding is bounded. */
+static inline int vor__fortune_off_cmp(double y1, const double *off1,
+                                       double y2, const double *off2,
+                                       int *c) {
+    if (!(off1[1] >= 0 && off2[1] >= 0)) return 0;
+    double dy = y1 - y2, bv = y1 - dy, av = dy + bv;
+    double edy = (y1 - av) + (bv - y2); /* y1 - y2 = dy + edy exactly */
+    double dg = off1[0] - off2[0], s = dy + dg;
+    /* |dg - (g1 - g2)| <= u |dg|, |s - (dy + dg)| <= u |s|, u = 2^-53;
+     * the factor covers the roundings of the bound itself */
+    double bound = (off1[1] + off2[1] + fabs(edy) +
+                    0x1p-52 * (fabs(dg) + fabs(s))) * (1 + 0x1p-40) +
+                   0x1p-1000;
+    if (s > bound) {
+        *c = 1;
+        return 1;
+    }
+    if (-s > bound) {
+        *c = -1;
+        return 1;
+    }
+    return 0;
+}
+
 
 /* 1 if site s comes strictly before the circle event of a, b, c
  * (orient2d(a, b, c) > 0) in sweep order, 0 if the event comes first.

@@ -414,6 +414,89 @@ static int make_ccw(double t[3][2]) {
     return o != 0;
 }
 
+/* vor__fortune_off_cmp against the exact comparison: pairs of triples of
+ * two close sites of a row and a site of the next (the events over a
+ * row), rows at y from 2^-30 to 2^40 and as far as 2^600 (past the safe
+ * range) with x jittered by a few ulps; the second triple of each pair
+ * moved along x by an exact step, its y left or moved by an ulp or a
+ * row, and its shape kept, jittered, or taken from another row. A
+ * decision must be the exact order of the tops (which then differ), and
+ * a translate along x, whose top is the same, must stay undecided. Of
+ * the pairs an ulp of y apart whose float intervals overlap, most must be
+ * decided (65%; the tops of those an ulp of x apart are mostly closer
+ * than the heights' errors). */
+static void test_off_cmp(void **state) {
+    (void)state;
+    vt_rng r = {97};
+    print_message("off_cmp: seed 97\n");
+    vor__fortune_ws *ws = vor__fortune_ws_new();
+    assert_non_null(ws);
+    /* kind 2 (y moved by an ulp): pairs whose intervals overlap, and
+     * how many of them were decided */
+    int overlap = 0, decided = 0, same = 0;
+    for (int it = 0; it < 40000; it++) {
+        int far = it % 8 == 7;
+        double y0 = ldexp(1.0 + (double)(vt_next(&r) % 1000) / 1000.0,
+                          far ? 600 : (int)(vt_next(&r) % 70) - 30);
+        double unit = ldexp(1.0, far ? 590 : -10);
+        double dx = unit * ldexp(1.0 + vt_unit(&r), -(int)(vt_next(&r) % 12));
+        double x0 = unit * (double)(vt_next(&r) % 1000);
+        double side = vt_next(&r) % 2 ? unit : -unit;
+        double t1[3][2] = {{x0, y0},
+                           {x0 + dx, y0},
+                           {x0 + dx * (2 * vt_unit(&r) - 0.5), y0 + side}};
+        for (int k = 0; k < 3; k++)
+            for (int j = 0; j < 2; j++)
+                if (vt_next(&r) % 4 == 0)
+                    t1[k][j] = nextafter(t1[k][j], vt_next(&r) % 2 ? INFINITY
+                                                                   : -INFINITY);
+        if (!make_ccw(t1)) continue;
+        int kind = (int)(vt_next(&r) % 4);
+        double step = unit * (double)(1 + vt_next(&r) % 64), t2[3][2];
+        for (int k = 0; k < 3; k++) {
+            t2[k][0] = t1[k][0] + step;
+            t2[k][1] = t1[k][1];
+            if (kind == 1 && vt_next(&r) % 2)
+                t2[k][0] = nextafter(t2[k][0], INFINITY);
+            if (kind == 2) t2[k][1] = nextafter(t1[k][1], INFINITY);
+            if (kind == 3) t2[k][1] = t1[k][1] + side;
+        }
+        if (!make_ccw(t2)) continue;
+        /* a translate only if every moved coordinate is exact */
+        int translate = kind == 0;
+        for (int k = 0; k < 3 && translate; k++)
+            translate = t2[k][0] - step == t1[k][0];
+        for (int safe = 0; safe < 2; safe++) {
+            if (safe && far) continue;
+            double lo1, hi1, lo2, hi2, o1[2], o2[2];
+            if (vor__fortune_circle_top_off(t1[0], t1[1], t1[2], safe, &lo1,
+                                            &hi1, o1) != 1 ||
+                vor__fortune_circle_top_off(t2[0], t2[1], t2[2], safe, &lo2,
+                                            &hi2, o2) != 1)
+                continue;
+            int c, got = vor__fortune_off_cmp(t1[0][1], o1, t2[0][1], o2, &c);
+            int ov = kind == 2 && !(hi1 < lo2 || hi2 < lo1);
+            overlap += ov;
+            if (translate) {
+                same++;
+                assert_int_equal(got, 0);
+                continue;
+            }
+            if (!got) continue;
+            decided += ov;
+            int e = vor__fortune_circle_cmp_exact(t1[0], t1[1], t1[2], t2[0],
+                                                  t2[1], t2[2], ws);
+            assert_int_equal(c, e);
+        }
+    }
+    vor__fortune_ws_free(ws);
+    print_message("off_cmp: %d translates undecided; a row an ulp higher: "
+                  "%d of %d overlapping intervals decided\n", same, decided,
+                  overlap);
+    assert_true(same > 1000);
+    assert_true(decided > overlap / 2);
+}
+
 /* u = triple t with its points rotated by rot places. */
 static void rotated(double u[3][2], double t[3][2], int rot) {
     for (int k = 0; k < 3; k++) {
@@ -2630,6 +2713,7 @@ int main(void) {
         cmocka_unit_test(test_bp_side_equal_y),
         cmocka_unit_test(test_circle_top_bounds),
         cmocka_unit_test(test_circle_top_refined),
+        cmocka_unit_test(test_off_cmp),
         cmocka_unit_test(test_circle_exact_small),
         cmocka_unit_test(test_long_rows),
         cmocka_unit_test(test_site_first),
