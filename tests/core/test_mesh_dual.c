@@ -300,6 +300,18 @@ static void test_high_degree(void **state) {
         vor_diagram_free(d);
         vor_sites_free(s);
     }
+    /* more polygons, whose patch reads more slots than a quarter of the
+     * sites' (82 diagonals, 12,055 slots for the 19,946 distinct sites):
+     * random integer sites in an 1800 x 1800 window */
+    {
+        enum { N = 20000 };
+        static double xy[2 * N];
+        vt_rng r = {1};
+        for (size_t i = 0; i < 2 * N; i++) xy[i] = (double)(vt_next(&r) % 1800);
+        vor_sites *s = sites_of(xy, N);
+        expect_same(s, "20000 integer sites in 1800 x 1800", 0, 0);
+        vor_sites_free(s);
+    }
 }
 
 /* Every allocation of vor__bowyer_watson and vor__flip fails in turn, on
