@@ -235,10 +235,10 @@ typedef struct sweep {
     double *cache; /* 6 per record: see event_dd() and event_exact() */
     double *boxes; /* 4 per record: see event_box() */
     /* 3 per record: the y of the triple's left site, the top's height
-     * above it and that height's error bound (see off_before) */
+     * above it and that height's error bound (see event_off) */
     double *offs;
     double *shapes; /* VOR__FORTUNE_SHAPE per record: see event_shape() */
-    uint8_t *known; /* per record: which parts of its cache are filled */
+    uint16_t *known; /* per record: which parts of its cache are filled */
     uint32_t n_recs, cap_recs;
     void *rec_block; /* the one allocation behind the per-record arrays */
     uint32_t free_recs; /* list of freed records through .arc */
@@ -1484,7 +1484,8 @@ static int recs_resize(sweep *w, uint32_t cap) {
     size_t c = cap, k = w->n_recs;
     /* widest alignment first */
     size_t bytes = c * (13 * sizeof(double) + 2 * sizeof(event) +
-                        sizeof(evrec) + 5 * sizeof(uint32_t) + 1);
+                        sizeof(evrec) + 5 * sizeof(uint32_t) +
+                        sizeof(uint16_t));
     char *p = malloc(bytes);
     /* apart: see event_shape */
     double *shapes = malloc(VOR__FORTUNE_SHAPE * c * sizeof *shapes);
@@ -1502,7 +1503,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
     uint32_t *blink = (uint32_t *)(recs + c);
     uint32_t *hpos = blink + 2 * c;
     uint32_t *late = hpos + c;
-    uint8_t *known = (uint8_t *)(late + c);
+    uint16_t *known = (uint16_t *)(void *)(late + c);
     if (k) {
         memcpy(cache, w->cache, 6 * k * sizeof *cache);
         memcpy(boxes, w->boxes, 4 * k * sizeof *boxes);
@@ -1514,7 +1515,7 @@ static int recs_resize(sweep *w, uint32_t cap) {
         memcpy(blink, w->blink, 2 * k * sizeof *blink);
         memcpy(hpos, w->hpos, k * sizeof *hpos);
         memcpy(late, w->late, w->n_late * sizeof *late);
-        memcpy(known, w->known, k);
+        memcpy(known, w->known, k * sizeof *known);
     }
     free(w->rec_block);
     free(w->shapes);
@@ -1583,8 +1584,9 @@ static void tight_top(const double *a, const double *b, const double *c,
 }
 
 /* What the tie-breaking stages know about record r's event, computed on
- * first use (known[r] has bit KNOWN_DD, KNOWN_EXACT once filled; a byte
- * apart, so that a new record touches no cache line of the doubles):
+ * first use (known[r] has bit KNOWN_DD, KNOWN_EXACT once filled; two
+ * bytes apart, so that a new record touches no cache line of the
+ * doubles):
  * c[0..2] the double-double bounds (hi, lo, err; err < 0 if unavailable;
  * outside the safe range, tight_top's),
  * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
@@ -1597,7 +1599,8 @@ enum {
     KNOWN_OFFSET = 16,
     KNOWN_TOP = 32, /* c[0..1] hold the top exactly, c[2] = 0 */
     KNOWN_SHAPE = 64, /* the record's shape filled, if HAS_SHAPE (event_shape) */
-    HAS_SHAPE = 128
+    HAS_SHAPE = 128,
+    KNOWN_OFF = 256 /* its offs filled (event_off) */
 };
 
 static int event_dd(sweep *w, uint32_t r, const double **v) {
@@ -1787,10 +1790,27 @@ static inline int same_top(sweep *w, const double *e1, const double *e2,
  * whose cells' tops differ by about that much, overlapped in nearly
  * every comparison of the events of a row (600 of them in the heap at a
  * time, 10^5 sites), and each event needed its double-double bounds. */
+/* Record r's offs (see off_before), computed on first use: the ties
+ * are few where they do not crowd, and storing them with every event cost
+ * uniform sites 2% more instructions. */
+static const double *event_off(sweep *w, uint32_t r) {
+    double *o = w->offs + 3 * (size_t)r;
+    if (!(w->known[r] & KNOWN_OFF)) {
+        w->known[r] |= KNOWN_OFF;
+        const uint32_t *t = w->recs[r].s;
+        const double *a = site_xy(w, t[0]);
+        double lo, hi;
+        o[0] = a[1];
+        if (vor__fortune_circle_top_off(a, site_xy(w, t[1]), site_xy(w, t[2]),
+                                        w->safe, &lo, &hi, o + 1) != 1)
+            o[2] = -1;
+    }
+    return o;
+}
+
 static inline int off_before(sweep *w, uint32_t r1, uint32_t r2,
                              int *before) {
-    const double *o1 = w->offs + 3 * (size_t)r1,
-                 *o2 = w->offs + 3 * (size_t)r2;
+    const double *o1 = event_off(w, r1), *o2 = event_off(w, r2);
     int c;
     if (!vor__fortune_off_cmp(o1[0], o1 + 1, o2[0], o2 + 1, &c)) return 0;
     *before = c < 0;
@@ -1875,7 +1895,7 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
     w->cnt.event_compares++;
     if (x->hi < y->lo) return 1;
     if (y->hi < x->lo) return 0;
-    uint8_t k = w->known[x->rec] & w->known[y->rec];
+    uint16_t k = w->known[x->rec] & w->known[y->rec];
     int c;
     if (!w->lattice && off_before(w, x->rec, y->rec, &c)) return c;
     if (w->lattice && (k & KNOWN_EXACT)) {
@@ -2021,22 +2041,28 @@ static inline int in_heap(const sweep *w, uint32_t r) {
     return p < w->n_heap && w->heap[p].rec == r;
 }
 
-/* Links record r, whose event is set, into bucket k: a bucket of the
- * sites' map if k < n_buckets (k >= cur), else near bucket k - n_buckets
- * (>= near_cur). hpos holds k. */
-static void bucket_link(sweep *w, uint32_t r, uint32_t k) {
-    uint32_t *head = k < w->n_buckets ? &w->bhead[k]
-                                      : &w->nhead[k - w->n_buckets];
+/* Links record r, whose event is set, at *head, in bucket k (hpos). */
+static inline void list_link(sweep *w, uint32_t r, uint32_t *head,
+                             uint32_t k) {
     uint32_t h = *head;
     w->hpos[r] = k;
     w->blink[2 * r] = NO_EVENT;
     w->blink[2 * r + 1] = h;
     if (h != NO_EVENT) w->blink[2 * h] = r;
     *head = r;
-    if (k < w->n_buckets)
-        w->n_bucketed++;
-    else
-        w->n_nearq++;
+}
+
+/* Links record r, whose event is set, into bucket k (k >= cur). */
+static void bucket_link(sweep *w, uint32_t r, uint32_t k) {
+    list_link(w, r, &w->bhead[k], k);
+    w->n_bucketed++;
+}
+
+/* Links record r, whose event is set, into near bucket k (>= near_cur);
+ * hpos holds n_buckets + k. */
+static void near_link(sweep *w, uint32_t r, uint32_t k) {
+    list_link(w, r, &w->nhead[k], w->n_buckets + k);
+    w->n_nearq++;
 }
 
 static void bucket_unlink(sweep *w, uint32_t r) {
@@ -2058,12 +2084,12 @@ static void bucket_unlink(sweep *w, uint32_t r) {
  * events left in its kind of bucket): its events are put in one by one
  * when they are fewer than the heap's, else the heap is built anew
  * (Floyd). */
-static void pour_list(sweep *w, uint32_t r, uint32_t *count) {
+static inline __attribute__((always_inline)) void
+pour_list(sweep *w, uint32_t r, uint32_t *count) {
     uint32_t n0 = w->n_heap;
-    for (; r != NO_EVENT; r = w->blink[2 * r + 1]) {
+    for (; r != NO_EVENT; r = w->blink[2 * r + 1])
         heap_put(w, w->n_heap++, w->ekey[r]);
-        --*count;
-    }
+    *count -= w->n_heap - n0;
     if (w->n_heap - n0 > n0) {
         for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
         return;
@@ -2073,7 +2099,7 @@ static void pour_list(sweep *w, uint32_t r, uint32_t *count) {
 
 /* Pours bucket cur, and moves cur past it; likewise near bucket
  * near_cur. */
-static void pour(sweep *w) {
+static inline __attribute__((always_inline)) void pour(sweep *w) {
     uint32_t r = w->bhead[w->cur];
     w->bhead[w->cur++] = NO_EVENT;
     pour_list(w, r, &w->n_bucketed);
@@ -2110,7 +2136,7 @@ static void near_free(sweep *w) {
 static void spill(sweep *w) {
     uint32_t m = w->n_heap;
     w->spill_at = m < UINT32_MAX / 2 ? 2 * m : UINT32_MAX;
-    if ((uint64_t)w->n_buckets + m >= LATE) return;
+    if (m == 0 || (uint64_t)w->n_buckets + m >= LATE) return;
     keyed *a = malloc((size_t)m * sizeof *a);
     uint32_t *head = malloc((size_t)m * sizeof *head);
     ymap nm;
@@ -2119,8 +2145,7 @@ static void spill(sweep *w) {
     uint64_t kmin = UINT64_MAX, kmax = 0;
     for (uint32_t j = 0; j < m; j++) {
         uint64_t key = dkey(w->heap[j].lo + 0.0);
-        a[j].k = key;
-        a[j].i = j;
+        a[j] = (keyed){key, 0.0, j};
         kmin = key < kmin ? key : kmin;
         kmax = key > kmax ? key : kmax;
     }
@@ -2142,7 +2167,7 @@ static void spill(sweep *w) {
     for (uint32_t j = 0; j < m; j++) {
         event e = w->heap[j];
         w->ekey[e.rec] = e;
-        bucket_link(w, e.rec, w->n_buckets + ymap_rank(&nm, e.lo));
+        near_link(w, e.rec, ymap_rank(&nm, e.lo));
     }
     w->n_heap = 0;
     free(a);
@@ -2160,12 +2185,21 @@ out:
  * bucket of y): past them, an event starts after y. Spills the heap
  * first if it has grown past spill_at, and frees the near buckets once
  * they are empty. */
-static void front(sweep *w, uint32_t last, double y) {
-    if (!w->n_heap)
-        w->spill_at = SPILL_MIN;
-    else if (w->n_heap > w->spill_at && w->bhead && !w->nhead)
-        spill(w);
-    uint32_t last2 = w->nhead ? ymap_rank(&w->nmap, y) : 0;
+static inline __attribute__((always_inline)) void front_sites(sweep *w,
+                                                            uint32_t last) {
+    while (w->n_bucketed && w->cur <= last &&
+           (!w->n_heap || ev_bucket(w, w->heap[0].hi) >= w->cur))
+        pour(w);
+}
+
+/* front with the near buckets, or a heap to spill */
+static void front_near(sweep *w, uint32_t last, double y) {
+    if (w->n_heap > w->spill_at && w->bhead && !w->nhead) spill(w);
+    if (!w->nhead) {
+        front_sites(w, last);
+        return;
+    }
+    uint32_t last2 = ymap_rank(&w->nmap, y);
     for (;;) {
         if (w->n_nearq && w->near_cur <= last2 &&
             (!w->n_heap || ymap_rank(&w->nmap, w->heap[0].hi) >= w->near_cur)) {
@@ -2179,7 +2213,17 @@ static void front(sweep *w, uint32_t last, double y) {
         }
         break;
     }
-    if (w->nhead && !w->n_nearq) near_free(w);
+    if (!w->n_nearq) {
+        near_free(w);
+        w->spill_at = SPILL_MIN;
+    }
+}
+
+static inline void front(sweep *w, uint32_t last, double y) {
+    if (w->n_heap > w->spill_at || w->nhead)
+        front_near(w, last, y);
+    else
+        front_sites(w, last);
 }
 
 /* The map of y to buckets need not be the sites': any monotone map keeps
@@ -2274,13 +2318,14 @@ static void late_remove(sweep *w, uint32_t r) {
 static void q_put(sweep *w, event e) {
     if (w->bhead) {
         uint32_t k = ev_bucket(w, e.lo);
-        if (k < w->cur && w->nhead) {
-            uint32_t k2 = ymap_rank(&w->nmap, e.lo);
-            if (k2 >= w->near_cur) k = w->n_buckets + k2;
-        }
         if (k >= w->cur) {
             w->ekey[e.rec] = e;
             bucket_link(w, e.rec, k);
+            return;
+        }
+        if (w->nhead && (k = ymap_rank(&w->nmap, e.lo)) >= w->near_cur) {
+            w->ekey[e.rec] = e;
+            near_link(w, e.rec, k);
             return;
         }
     }
@@ -2353,16 +2398,13 @@ static void drop_event(sweep *w, uint32_t b) {
 
 /* The circle event of arc b's current triple: 1 with its interval if the
  * breakpoints around b converge (exact orient2d > 0), else 0. */
-static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi,
-                           double *off) {
+static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *x = &w->arcs[b];
     if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
     if (ARC(x->prev).site == z->site) return 0;
     w->cnt.circle_tops++;
-    off[0] = x->lxy[1];
-    int o = vor__fortune_circle_top_off(x->lxy, x->xy, z->xy, w->safe, lo,
-                                        hi, off + 1);
+    int o = vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi);
     /* collinear: only exact arithmetic says so (the callers count the
      * converging triples whose top has no bound, as they read lo) */
     if (o == 0) w->cnt.circle_top_exact++;
@@ -2423,13 +2465,12 @@ static inline void narrow(sweep *w, uint32_t r, double *lo, double *hi) {
  * converge. b must have no event. VOR_ENOMEM if the heap cannot grow. */
 static vor_status add_event(sweep *w, uint32_t b) {
     assert(ARC(b).ev == NO_EVENT);
-    double lo, hi, off[3];
-    if (!event_of(w, b, &lo, &hi, off)) return VOR_OK;
+    double lo, hi;
+    if (!event_of(w, b, &lo, &hi)) return VOR_OK;
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     uint32_t r = rec_new(w);
     if (r == NO_EVENT) return VOR_ENOMEM;
     rec_fill(w, r, b);
-    memcpy(w->offs + 3 * (size_t)r, off, sizeof off);
     narrow(w, r, &lo, &hi);
     q_insert(w, (event){lo, hi, r, b});
     ARC(b).ev = r;
@@ -2445,14 +2486,13 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     if (r == NO_EVENT) return add_event(w, b);
     w->cnt.false_alarms++; /* the old triple's event will not happen */
     if (w->tracing) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
-    double lo, hi, off[3];
-    if (!event_of(w, b, &lo, &hi, off)) {
+    double lo, hi;
+    if (!event_of(w, b, &lo, &hi)) {
         drop_event(w, b);
         return VOR_OK;
     }
     if (lo == -INFINITY) w->cnt.circle_top_exact++; /* rare: a branch */
     rec_fill(w, r, b);
-    memcpy(w->offs + 3 * (size_t)r, off, sizeof off);
     narrow(w, r, &lo, &hi);
     q_update(w, (event){lo, hi, r, b});
     if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
