@@ -1897,7 +1897,6 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
     if (y->hi < x->lo) return 0;
     uint16_t k = w->known[x->rec] & w->known[y->rec];
     int c;
-    if (!w->lattice && off_before(w, x->rec, y->rec, &c)) return c;
     if (w->lattice && (k & KNOWN_EXACT)) {
         /* both circles known exactly: equal ones decide here, without
          * the calls of ev_tie and its reads of six sites (a grid's
@@ -1916,6 +1915,9 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
             c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
             if (c != 0) return c < 0;
         }
+    } else if (!w->lattice && off_before(w, x->rec, y->rec, &c)) {
+        /* the bounds are tighter: tried only where they are missing */
+        return c;
     }
     return ev_tie(w, x->rec, y->rec);
 }
