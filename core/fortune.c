@@ -1786,10 +1786,12 @@ static inline int same_top(sweep *w, const double *e1, const double *e2,
 /* Off a lattice, where equal tops are rare: 1 with *before if the
  * events of records r1, r2 separate by their tops' heights above their
  * left sites (vor__fortune_off_cmp). Their intervals' widths are set
- * by the sites' y: sites on rows at y = 300 with x jittered by 10^-12,
- * whose cells' tops differ by about that much, overlapped in nearly
- * every comparison of the events of a row (600 of them in the heap at a
- * time, 10^5 sites), and each event needed its double-double bounds. */
+ * by the sites' y: the events over a row of 10^4 random x at y = 50 lie
+ * within about 10^-9 of one another, closer than the rounding of y
+ * allows their intervals to tell, and each needed its double-double
+ * bounds; the heights decided 1.59 M of the 2.02 M such comparisons of
+ * 100 such rows. (A grid jittered by 10^-12 has tops closer than
+ * either can tell: its ties still need the bounds.) */
 /* 1 if event e's interval is within four times the rounding of its
  * site's y plus the height (about 2^-50 of the top), where the heights
  * can separate what the interval cannot; wider, the height's own error
