@@ -2194,12 +2194,7 @@ out:
     free(head);
 }
 
-/* Pours buckets into the heap until its top is the earliest event (see
- * above: its hi maps below cur, and below near_cur under the near
- * buckets' map), or until the buckets of y are poured (last: the sites'
- * bucket of y): past them, an event starts after y. Spills the heap
- * first if it has grown past spill_at, and frees the near buckets once
- * they are empty. */
+/* front without near buckets: the sites' buckets up to last */
 static inline __attribute__((always_inline)) void front_sites(sweep *w,
                                                             uint32_t last) {
     while (w->n_bucketed && w->cur <= last &&
@@ -2234,6 +2229,12 @@ static void front_near(sweep *w, uint32_t last, double y) {
     }
 }
 
+/* Pours buckets into the heap until its top is the earliest event (see
+ * above: its hi maps below cur, and below near_cur under the near
+ * buckets' map), or until the buckets of y are poured (last: the sites'
+ * bucket of y): past them, an event starts after y. Spills the heap
+ * first if it has grown past spill_at, and frees the near buckets once
+ * they are empty. */
 static inline void front(sweep *w, uint32_t last, double y) {
     if (w->n_heap > w->spill_at || w->nhead)
         front_near(w, last, y);
