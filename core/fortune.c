@@ -1309,7 +1309,11 @@ static inline int bp_side(const sweep *w, uint32_t x, const double *p,
 
 /* The arc above site p (sweep line at p.y): the last arc whose left
  * breakpoint is not right of p. *on is set when p is exactly below that
- * breakpoint. O(log n) breakpoint tests. */
+ * breakpoint. O(log n) breakpoint tests. Both children of each arc are
+ * prefetched before its test: where the beach line holds a good share of
+ * the sites (coordinates spread over decades: 3 * 10^5 arcs for 10^6
+ * sites), each level below the cached top is a miss, and the test's
+ * arithmetic then overlaps the next one. */
 static uint32_t locate(sweep *w, const double *p, int *on) {
     const arc *arcs = w->arcs;
     uint32_t x = w->root, found = NIL;
@@ -1318,6 +1322,8 @@ static uint32_t locate(sweep *w, const double *p, int *on) {
     *on = 0;
     while (x != NIL) {
         visited++;
+        __builtin_prefetch(&arcs[arcs[x].left]);
+        __builtin_prefetch(&arcs[arcs[x].right]);
         int side = bp_side(w, x, p, &leftmost, &slow);
         if (side > 0) {
             found = x;
