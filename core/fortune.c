@@ -1796,8 +1796,9 @@ static inline int same_top(sweep *w, const double *e1, const double *e2,
  * within about 10^-9 of one another, closer than the rounding of y
  * allows their intervals to tell, and each needed its double-double
  * bounds; the heights decided 1.59 M of the 2.02 M such comparisons of
- * 100 such rows. (A grid jittered by 10^-12 has tops closer than
- * either can tell: its ties still need the bounds.) */
+ * 100 such rows. (A grid jittered by 10^-12 has tops closer still,
+ * often within an ulp of their y: the heights decide 92% of its
+ * 1.46 M ties, the bounds the rest.) */
 /* 1 if event e's interval is within four times the rounding of its
  * site's y plus the height (about 2^-50 of the top), where the heights
  * can separate what the interval cannot; wider, the height's own error

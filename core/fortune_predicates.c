@@ -715,7 +715,11 @@ circle_top(const double *a, const double *b, const double *c, int safe,
      * sites on a circle that had cancelled only 5 to 10 kept intervals
      * thousands of ulps wide; below 2^-3 uniform sites ran 1% slower). */
     int refined = 0, exact = 0;
-    if (ad < 0x1p-5 * (fabs(l) + fabs(r))) {
+    /* The heights (off) are wanted where two tops lie closer than their
+     * intervals can tell, and only then: refined always, their error is
+     * a sixth of the general bound's (a grid jittered by 10^-12, whose
+     * ties the heights decided 92% of, against 84%) */
+    if (off || ad < 0x1p-5 * (fabs(l) + fabs(r))) {
         d = orient_refined(a, b, c, e, bx, by, cx, cy, l, r, &ed, &exact);
         ad = fabs(d);
         refined = 1;
@@ -766,7 +770,7 @@ circle_top(const double *a, const double *b, const double *c, int safe,
     if (off) {
         /* the error of g, as the bounds below take it */
         off[0] = g;
-        off[1] = refined ? err * (1 + 0x1p-40) : 2 * err;
+        off[1] = err * (1 + 0x1p-40); /* refined */
         if (!(off[1] <= DBL_MAX) || !(fabs(g) <= DBL_MAX)) off[1] = -1;
     }
     double t = a[1] + g;
