@@ -246,7 +246,7 @@ bench: deps deps-bench all
 bench-bins: $(BENCH_BIN)/bench_algo $(BENCH_BIN)/mhd_baseline
 bench-peers: $(BENCH_PEERS)
 
-$(BENCH_BIN)/bench_algo: bench/bench_algo.c bench/bench_util.h \
+$(BENCH_BIN)/bench_algo: bench/bench_algo.c bench/bench_util.h bench/bench_shapes.h \
                          $(B)/libvortest.a $(B)/libvorapi.a $(B)/libvor.a
 	@mkdir -p $(@D)
 	$(CC) $(BASE_CFLAGS) $(BENCH_OPT) $< $(B)/libvortest.a $(B)/libvorapi.a \

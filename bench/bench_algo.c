@@ -12,7 +12,9 @@
  *           first run also measures peak memory (bench_util.h). Prints one
  *           table per distribution and writes every case to --csv.
  *   points  writes a generated set as a points file, so that every peer
- *           reads the very same doubles.
+ *           reads the very same doubles: a distribution (--dist) or a
+ *           shape (--shape, bench_shapes.h).
+ *   shapes  lists the shapes' names, one a line.
  *   json    writes a generated set as a POST /voronoi JSON body.
  *   ours    times one algorithm on a points file like the peers are timed,
  *           optionally writing the dual triangles for `check`.
@@ -61,6 +63,7 @@
 #include "../core/internal.h"
 #include "../core/vor.h"
 #include "../tests/support/testsets.h"
+#include "bench_shapes.h"
 #include "bench_util.h"
 
 #define MAX_LIST 32
@@ -72,6 +75,8 @@ static void usage(void) {
         "                        [--budget-ms 300] [--limit-s 240]\n"
         "                        [--total-s 0] --csv FILE\n"
         "       bench_algo points --dist D --n N [--seed S] --out FILE\n"
+        "       bench_algo points --shape S --n N [--seed S] --out FILE\n"
+        "       bench_algo shapes\n"
         "       bench_algo json   --dist D --n N [--seed S] [--algo A] --out FILE\n"
         "       bench_algo ours   --algo A --points FILE [--runs R]\n"
         "                         [--budget-ms B] [--tris FILE]\n"
@@ -88,7 +93,7 @@ static void usage(void) {
 
 typedef struct opts {
     const char *algos, *dists, *ns, *mem_ns, *csv, *out, *points, *tris;
-    const char *dist, *algo;
+    const char *dist, *shape, *algo;
     size_t n, check_max;
     uint64_t seed;
     double budget_ms;
@@ -124,6 +129,7 @@ static int parse_opts(int argc, char **argv, opts *o) {
         else if (!strcmp(k, "--points")) o->points = v;
         else if (!strcmp(k, "--tris")) o->tris = v;
         else if (!strcmp(k, "--dist")) o->dist = v;
+        else if (!strcmp(k, "--shape")) o->shape = v;
         else if (!strcmp(k, "--algo")) o->algo = v;
         else if (!strcmp(k, "--n")) o->n = strtoull(v, NULL, 10);
         else if (!strcmp(k, "--check-max")) o->check_max = strtoull(v, NULL, 10);
@@ -580,11 +586,18 @@ static int cmd_table(const opts *o) {
 /* ---- points, json ------------------------------------------------------------ */
 
 static int cmd_points(const opts *o, int json) {
-    if (!o->dist || !o->out || o->n == 0) {
+    if (!o->dist == !o->shape || !o->out || o->n == 0) {
         usage();
         return 2;
     }
-    double *xy = generate(o->dist, o->n, o->seed);
+    double *xy;
+    if (o->shape) {
+        xy = bs_shape(o->shape, o->n, o->seed);
+        if (!xy)
+            fprintf(stderr, "unknown shape %s (or out of memory)\n", o->shape);
+    } else {
+        xy = generate(o->dist, o->n, o->seed);
+    }
     if (!xy)
         return 2;
     int rc;
@@ -1036,6 +1049,11 @@ int main(int argc, char **argv) {
         return cmd_points(&o, 0);
     if (!strcmp(cmd, "json"))
         return cmd_points(&o, 1);
+    if (!strcmp(cmd, "shapes")) {
+        for (size_t i = 0; i < sizeof bs_shapes / sizeof bs_shapes[0]; i++)
+            puts(bs_shapes[i].name);
+        return 0;
+    }
     if (!strcmp(cmd, "ours"))
         return cmd_ours(&o);
     if (!strcmp(cmd, "check"))
