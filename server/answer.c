@@ -183,8 +183,8 @@ enum MHD_Result srv__send_response(srv_req *q, struct MHD_Connection *conn,
     enum MHD_Result rc = MHD_queue_response(conn, status, resp);
     MHD_destroy_response(resp);
     q->status = (int)status;
-    q->bytes = q->method == SRV_M_HEAD || body_len == SIZE_MAX
-                   ? 0 : body_len; /* as sent; streams: unknown */
+    if (body_len != SIZE_MAX) /* a stream counts its own (stream.h) */
+        q->bytes = q->method == SRV_M_HEAD ? 0 : body_len;
     q->phase = SRV_PH_DONE;
     return rc;
 }
@@ -240,7 +240,8 @@ enum MHD_Result srv__send_reply(srv_req *q, struct MHD_Connection *conn,
     struct MHD_Response *resp;
     size_t len = r->len;
     if (r->stream != NULL) {
-        resp = srv_stream_start(r->stream, conn); /* it sets the types */
+        q->bytes = 0;
+        resp = srv_stream_start(r->stream, conn, &q->bytes); /* and types */
         r->stream = NULL;
         len = SIZE_MAX; /* unknown, and large */
     } else if (r->held > 0 && r->body != NULL) {

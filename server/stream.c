@@ -39,6 +39,7 @@ struct srv_stream {
     z_stream z;
     int z_ready;
     struct MHD_Connection *conn;
+    size_t *sent; /* the request's byte count (srv_stream_start) */
 
     pthread_mutex_t lock;
     pthread_cond_t cond;
@@ -304,6 +305,7 @@ static ssize_t reader(void *cls, uint64_t pos, char *buf, size_t max) {
             if (n > max) n = max;
             memcpy(buf, st->cur + st->cur_off, n);
             st->cur_off += n;
+            *st->sent += n;
             pthread_mutex_unlock(&st->lock);
             return (ssize_t)n;
         }
@@ -341,8 +343,10 @@ static void reader_free(void *cls) {
 }
 
 struct MHD_Response *srv_stream_start(srv_stream *st,
-                                      struct MHD_Connection *conn) {
+                                      struct MHD_Connection *conn,
+                                      size_t *sent) {
     st->conn = conn;
+    st->sent = sent;
     struct MHD_Response *resp = MHD_create_response_from_callback(
         MHD_SIZE_UNKNOWN, 64 * 1024, reader, st, reader_free);
     if (resp == NULL) {

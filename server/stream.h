@@ -76,8 +76,12 @@ void srv_stream_discard(srv_stream *st);
 
 /* Starts the writer and returns the response to queue on conn (with
  * Content-Type set; Content-Encoding too when compressed). NULL on
- * failure: the stream is freed. */
+ * failure: the stream is freed. *sent (the request's count of body bytes,
+ * for the access log) grows by every byte handed to libmicrohttpd, as
+ * sent (compressed when gzip); libmicrohttpd asks for them only while the
+ * request is alive, on its own thread. */
 struct MHD_Response *srv_stream_start(srv_stream *st,
-                                      struct MHD_Connection *conn);
+                                      struct MHD_Connection *conn,
+                                      size_t *sent);
 
 #endif /* VOR_SRV_STREAM_H */

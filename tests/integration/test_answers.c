@@ -94,9 +94,11 @@ static void test_streamed_answers(void **state) {
     assert_memory_equal(p0, p2, l0);
     for (int i = 0; i < 3; i++) it_free(&r[i]);
 
-    /* Binary, streamed: as long as its header says. */
+    /* Binary, streamed: as long as its header says, and the access log
+     * counts every byte of it. */
     request_of(body, sizeof body, n, ",\"format\":\"binary\"");
-    it_req qb = {.path = "/voronoi", .body = body, .len = strlen(body)};
+    it_req qb = {.path = "/voronoi", .body = body, .len = strlen(body),
+                 .headers = {"X-Request-Id: it-stream-bytes"}};
     it_resp rb;
     it_http(&d, &qb, &rb);
     assert_int_equal(rb.status, 200);
@@ -112,6 +114,24 @@ static void test_streamed_answers(void **state) {
     if (hd[3] & 8) want += 8 * (size_t)hd[11]; /* the counts, last */
     assert_int_equal(rb.len, want);
     it_free(&rb);
+    char *log = NULL;
+    const char *line = NULL;
+    for (int tries = 0; tries < 500 && line == NULL; tries++) {
+        free(log);
+        log = it_log(&d);
+        line = log ? strstr(log, "id=it-stream-bytes") : NULL;
+        if (line == NULL) it_sleep(0.01);
+    }
+    assert_non_null(line);
+    while (line > log && line[-1] != '\n') line--;
+    char expect[64];
+    snprintf(expect, sizeof expect, " status=200 bytes=%zu ", want);
+    const char *end = strchr(line, '\n');
+    const char *hit = strstr(line, expect);
+    if (hit == NULL || (end != NULL && hit > end))
+        fail_msg("access log: want%s in %.*s", expect,
+                 (int)(end ? end - line : 200), line);
+    free(log);
 }
 
 static void test_budget_refuses_large_work(void **state) {
