@@ -256,6 +256,31 @@ IT_UNUSED static int it_log_has(const it_daemon *d, const char *text) {
     return 0;
 }
 
+/* The line of the log that holds `text`, once it is there (waited for as
+ * it_log_has does): a copy without its newline, to free; NULL if it never
+ * came. */
+IT_UNUSED static char *it_log_line(const it_daemon *d, const char *text) {
+    for (int i = 0; i < 6000; i++) {
+        char *log = it_log(d);
+        const char *hit = log != NULL ? strstr(log, text) : NULL;
+        if (hit != NULL) {
+            const char *start = hit, *end = strchr(hit, '\n');
+            while (start > log && start[-1] != '\n') start--;
+            size_t len = end != NULL ? (size_t)(end - start) : strlen(start);
+            char *line = malloc(len + 1);
+            if (line != NULL) {
+                memcpy(line, start, len);
+                line[len] = '\0';
+            }
+            free(log);
+            return line;
+        }
+        free(log);
+        it_sleep(0.01);
+    }
+    return NULL;
+}
+
 /* ---- HTTP through libcurl ----------------------------------------------- */
 
 typedef struct it_req {
