@@ -1,5 +1,5 @@
 /* bench_shapes.h -- point sets that no distribution of the service names,
- * for section 4b of bench/run: the shapes real data takes and the ones
+ * for section 11 of bench/run: the shapes real data takes and the ones
  * that break sweeps and incremental insertion alike. Each is n points
  * from a seed; the same name, n and seed give the same doubles on one
  * machine (a few use libm's sin, cos and tan).
