@@ -2640,6 +2640,51 @@ static void test_trivial_inputs(void **state) {
     assert_int_equal(vor__fortune(NULL, NULL), VOR_EINVAL);
 }
 
+/* Every allocation of a sweep whose heap spills into near buckets (rows
+ * of equal y, as test_crowded_rows) fails in turn: VOR_ENOMEM and no
+ * diagram, or the very diagram -- a spill refused its memory leaves the
+ * events in the heap, and so does a near-bucket map that cannot be
+ * built. LeakSanitizer checks at exit that nothing was lost. */
+static void test_alloc_failures_spill(void **state) {
+    (void)state;
+    enum { ROWS = 4, PER = 3000, N = ROWS * PER };
+    static double xy[2 * N];
+    vt_rng r = {67};
+    for (size_t i = 0; i < N; i++) {
+        xy[2 * i] = vt_unit(&r);
+        xy[2 * i + 1] = (double)(i / PER);
+    }
+    vor_sites *s = sites_of(xy, N);
+    vor_diagram *want = NULL;
+    assert_int_equal(vor__fortune(s, &want), VOR_OK);
+    fault_arm(-1);
+    vor_diagram *d = NULL;
+    vor_status st = vor__fortune(s, &d);
+    long count = fault_seen;
+    fault_disarm();
+    assert_int_equal(st, VOR_OK);
+    vor_diagram_free(d);
+    int harmless = 0;
+    for (long k = 0; k < count; k++) {
+        fault_arm(k);
+        d = (vor_diagram *)1;
+        st = vor__fortune(s, &d);
+        fault_disarm();
+        if (st == VOR_OK) {
+            harmless++;
+            assert_true(vor_diagram_equal(d, want));
+            vor_diagram_free(d);
+            continue;
+        }
+        assert_int_equal(st, VOR_ENOMEM);
+        assert_null(d);
+    }
+    print_message("spilling rows: %ld allocations, %d refused harmlessly\n",
+                  count, harmless);
+    vor_diagram_free(want);
+    vor_sites_free(s);
+}
+
 /* Every allocation of the sweep fails in turn. */
 static void test_alloc_failures(void **state) {
     (void)state;
@@ -2767,6 +2812,7 @@ int main(void) {
         cmocka_unit_test(test_sort_paths),
         cmocka_unit_test(test_event_queue),
         cmocka_unit_test(test_alloc_failures),
+        cmocka_unit_test(test_alloc_failures_spill),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_small_random),
         cmocka_unit_test(test_unit_circle_1e5),
