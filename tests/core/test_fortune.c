@@ -2093,8 +2093,9 @@ static void test_columns(void **state) {
  * circle event at 10^5 sites, and a third more time than swept down).
  * A sample's upper hull chain holds it all, the lower one two sites, so
  * the sweep runs down (choose_frame): about 0.5 comparisons an event.
- * y = x^2, swept up as before, the same. Each diagram is checked
- * against the other algorithms (check_points). */
+ * y = x^2, swept up as before, the same. Then y = -x^2 at integer x,
+ * each site twice (rows of two sites, duplicates), swept down. Each
+ * diagram is checked against the other algorithms (check_points). */
 static void test_far_chain(void **state) {
     (void)state;
     enum { N = 20000 };
@@ -2109,6 +2110,15 @@ static void test_far_chain(void **state) {
     compares_under("y = -x^2", xy, N, 1);
     for (size_t i = 0; i < N; i++) xy[2 * i + 1] = -xy[2 * i + 1];
     compares_under("y = x^2", xy, N, 1);
+    /* integers, swept down too: x and -x share a y (rows of two), and
+     * every site comes twice */
+    for (size_t i = 0; i < N; i++) {
+        double x = (double)((long)(i / 2) - N / 4);
+        xy[2 * i] = x;
+        xy[2 * i + 1] = -x * x;
+    }
+    vor_counts c;
+    counts_of("y = -x^2 at integer x, each site twice", xy, N, &c);
 }
 
 /* Data far from the origin for its extent: the sweep moves it to an
