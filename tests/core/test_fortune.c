@@ -2650,6 +2650,40 @@ static void test_trivial_inputs(void **state) {
     assert_int_equal(vor__fortune(NULL, NULL), VOR_EINVAL);
 }
 
+/* The allocations one sweep of s makes (none refused; it must succeed). */
+static long allocations_of(const vor_sites *s) {
+    fault_arm(-1);
+    vor_diagram *d = NULL;
+    vor_status st = vor__fortune(s, &d);
+    long count = fault_seen;
+    fault_disarm();
+    assert_int_equal(st, VOR_OK);
+    vor_diagram_free(d);
+    return count;
+}
+
+/* One sweep of s with allocation k refused (and allocation k2 too, if
+ * k2 >= 0): 1 if it still made the very diagram want, 0 if it failed
+ * with VOR_ENOMEM and no diagram; anything else fails the test. */
+static int sweep_refused(const vor_sites *s, long k2, long k,
+                         const vor_diagram *want) {
+    if (k2 >= 0)
+        fault_arm_two(k2, k);
+    else
+        fault_arm(k);
+    vor_diagram *d = (vor_diagram *)1;
+    vor_status st = vor__fortune(s, &d);
+    fault_disarm();
+    if (st == VOR_OK) {
+        assert_true(vor_diagram_equal(d, want));
+        vor_diagram_free(d);
+        return 1;
+    }
+    assert_int_equal(st, VOR_ENOMEM);
+    assert_null(d);
+    return 0;
+}
+
 /* Every allocation of a sweep whose heap spills into near buckets (rows
  * of equal y, as test_crowded_rows) fails in turn: VOR_ENOMEM and no
  * diagram, or the very diagram -- a spill refused its memory leaves the
@@ -2667,28 +2701,9 @@ static void test_alloc_failures_spill(void **state) {
     vor_sites *s = sites_of(xy, N);
     vor_diagram *want = NULL;
     assert_int_equal(vor__fortune(s, &want), VOR_OK);
-    fault_arm(-1);
-    vor_diagram *d = NULL;
-    vor_status st = vor__fortune(s, &d);
-    long count = fault_seen;
-    fault_disarm();
-    assert_int_equal(st, VOR_OK);
-    vor_diagram_free(d);
+    long count = allocations_of(s);
     int harmless = 0;
-    for (long k = 0; k < count; k++) {
-        fault_arm(k);
-        d = (vor_diagram *)1;
-        st = vor__fortune(s, &d);
-        fault_disarm();
-        if (st == VOR_OK) {
-            harmless++;
-            assert_true(vor_diagram_equal(d, want));
-            vor_diagram_free(d);
-            continue;
-        }
-        assert_int_equal(st, VOR_ENOMEM);
-        assert_null(d);
-    }
+    for (long k = 0; k < count; k++) harmless += sweep_refused(s, -1, k, want);
     print_message("spilling rows: %ld allocations, %d refused harmlessly\n",
                   count, harmless);
     vor_diagram_free(want);
@@ -2710,38 +2725,22 @@ static void test_alloc_failures(void **state) {
     vor_sites *s = sites_of(xy, n);
     vor_diagram *want = NULL;
     assert_int_equal(vor__fortune(s, &want), VOR_OK);
-    fault_arm(-1);
-    vor_diagram *d = NULL;
-    vor_status st = vor__fortune(s, &d);
-    long count = fault_seen;
-    fault_disarm();
-    assert_int_equal(st, VOR_OK);
-    vor_diagram_free(d);
+    long count = allocations_of(s);
     print_message("allocations: %ld\n", count);
     int tolerated = 0, in_room = 0;
     long room = -1;
     for (long k = 0; k < count; k++) {
-        fault_arm(k);
-        d = (vor_diagram *)1;
-        st = vor__fortune(s, &d);
-        fault_disarm();
-        if (st == VOR_OK) {
-            /* only two kinds of allocation may fail without harm: the
-             * sweep's room for every arc and record it can hold (four
-             * blocks: then it starts small and doubles), and the two
-             * shrinking reallocs of the cocircular conversion
-             * (vor__mesh_to_diagram) */
-            if (room < 0) room = k;
-            if (k - room < 4)
-                in_room++;
-            else
-                tolerated++;
-            assert_true(vor_diagram_equal(d, want));
-            vor_diagram_free(d);
-            continue;
-        }
-        assert_int_equal(st, VOR_ENOMEM);
-        assert_null(d);
+        if (!sweep_refused(s, -1, k, want)) continue;
+        /* only two kinds of allocation may fail without harm: the
+         * sweep's room for every arc and record it can hold (four
+         * blocks: then it starts small and doubles), and the two
+         * shrinking reallocs of the cocircular conversion
+         * (vor__mesh_to_diagram) */
+        if (room < 0) room = k;
+        if (k - room < 4)
+            in_room++;
+        else
+            tolerated++;
     }
     /* the room's four blocks (arcs, colours, records, their shapes) come
      * one after another, and each one refused makes the sweep start
@@ -2752,6 +2751,7 @@ static void test_alloc_failures(void **state) {
     /* Without the room taken at once: each allocation of the small
      * arrays and their doubling fails in turn, and only the conversion's
      * shrinking reallocs may fail without harm. */
+    vor_diagram *d = NULL;
     fault_arm(room);
     assert_int_equal(vor__fortune(s, &d), VOR_OK);
     long count_small = fault_seen;
@@ -2759,19 +2759,10 @@ static void test_alloc_failures(void **state) {
     vor_diagram_free(d);
     int failed = 0, harmless = 0;
     for (long k = room + 1; k < count_small; k++) {
-        fault_arm_two(room, k);
-        d = (vor_diagram *)1;
-        st = vor__fortune(s, &d);
-        fault_disarm();
-        if (st == VOR_OK) {
+        if (sweep_refused(s, room, k, want))
             harmless++;
-            assert_true(vor_diagram_equal(d, want));
-            vor_diagram_free(d);
-            continue;
-        }
-        failed++;
-        assert_int_equal(st, VOR_ENOMEM);
-        assert_null(d);
+        else
+            failed++;
     }
     print_message("allocations with small arrays: %ld, of which %d fail "
                   "the sweep\n", count_small, failed);
