@@ -2008,6 +2008,15 @@ static void test_curves(void **state) {
         }
 }
 
+/* n sites on y = k x^2, x uniform in [-1, 1) from rng r. */
+static void parabola_sites(double *xy, size_t n, vt_rng *r, double k) {
+    for (size_t i = 0; i < n; i++) {
+        double x = 2 * vt_unit(r) - 1;
+        xy[2 * i] = x;
+        xy[2 * i + 1] = k * x * x;
+    }
+}
+
 /* Events after the last site: on a parabola about half of them, whose
  * tops the sites' map sends to its last bucket; the buckets are fitted
  * to the events instead (refit), and the queue must then order them in a
@@ -2021,11 +2030,7 @@ static void test_after_last_site(void **state) {
     static double xy[2 * N];
     vt_rng r = {61};
     print_message("after the last site: seed 61\n");
-    for (size_t i = 0; i < N; i++) {
-        double x = 2 * vt_unit(&r) - 1;
-        xy[2 * i] = x;
-        xy[2 * i + 1] = x * x;
-    }
+    parabola_sites(xy, N, &r, 1);
     vor_counts c;
     counts_of("parabola, 20000 sites", xy, N, &c);
     assert_true(c.event_compares < 2 * c.circle_events);
@@ -2102,11 +2107,7 @@ static void test_far_chain(void **state) {
     static double xy[2 * N];
     vt_rng r = {83};
     print_message("far chain: seed 83\n");
-    for (size_t i = 0; i < N; i++) {
-        double t = 2 * vt_unit(&r) - 1;
-        xy[2 * i] = t;
-        xy[2 * i + 1] = -t * t;
-    }
+    parabola_sites(xy, N, &r, -1);
     compares_under("y = -x^2", xy, N, 1);
     for (size_t i = 0; i < N; i++) xy[2 * i + 1] = -xy[2 * i + 1];
     compares_under("y = x^2", xy, N, 1);
