@@ -1,7 +1,7 @@
 /* bench_util.h -- the few helpers every benchmark driver shares, C and C++.
  *
- * A clock (CLOCK_MONOTONIC in nanoseconds), medians, the peak-memory probe
- * and the exchange files that let every peer run on the very same points:
+ * A clock (CLOCK_MONOTONIC in nanoseconds), the kernel's CPU time, medians,
+ * the peak-memory probe and the exchange files that let every peer run on the very same points:
  *
  *   points file:    little-endian float64 pairs x0 y0 x1 y1 ..., no header;
  *                   n = size / 16. A driver's --points may name several,
@@ -29,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 /* Monotonic time in nanoseconds. */
@@ -36,6 +37,19 @@ static inline uint64_t bu_now_ns(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+/* CPU time the kernel has spent on behalf of this process so far, in ms
+ * (getrusage), -1 if unknown. A computation's share of it is mostly the
+ * page faults of its first touch of fresh memory: the kernel zeroes each
+ * page, and on a virtual machine whose host has taken the memory back, the
+ * host backs it again first. Reported beside a wall time so that a growth
+ * in one can be told from a growth in the other. */
+static inline double bu_sys_ms(void) {
+    struct rusage u;
+    if (getrusage(RUSAGE_SELF, &u) != 0)
+        return -1.0;
+    return (double)u.ru_stime.tv_sec * 1e3 + (double)u.ru_stime.tv_usec / 1e3;
 }
 
 static inline int bu_cmp_double(const void *a, const void *b) {
