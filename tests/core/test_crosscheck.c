@@ -2,8 +2,9 @@
  * each other, against vor_check and against brute force.
  *
  * For every standard set of tests/support/testsets.h, for many small
- * random sets (fixed seeds, printed) and for every distribution the
- * service generates (small sizes, fixed seeds), Fortune, Bowyer-Watson
+ * random sets (fixed seeds, printed), for every distribution the service
+ * generates and every shape of make bench's section 11 (small sizes,
+ * fixed seeds), Fortune, Bowyer-Watson
  * and flipping must each return VOR_OK, pass vor_check and return
  * bit-identical diagrams. Every set is run to the end and reported on one line (which
  * algorithm fails or differs, and the first difference); the test fails
@@ -31,6 +32,7 @@
 
 #include "../../core/internal.h"
 #include "../../api/distribution.h"
+#include "../../bench/bench_shapes.h"
 #include "../support/testsets.h"
 #include "oracle_voronoi.h"
 
@@ -515,6 +517,40 @@ static void test_distributions(void **state) {
     if (failed) fail_msg("%d of %d distribution sets failed", failed, runs);
 }
 
+/* Every shape that make bench times against CGAL (bench/bench_shapes.h:
+ * rows and columns, lattices rounded or turned, curves, a star, ulp-fine
+ * steps, exponents over 2^+-500, a near-line, repeated points) at small
+ * sizes, each through the brute-force oracle: the bench checks the
+ * triangulations at 10^5 sites, here the diagrams must agree bit for bit. */
+static void test_shapes(void **state) {
+    (void)state;
+    static const struct {
+        size_t n;
+        uint64_t seed;
+    } runs[] = {{40, 1}, {400, 1}, {400, 2}, {1500, 1}};
+    const size_t count = sizeof bs_shapes / sizeof bs_shapes[0];
+    int failed = 0, sets = 0;
+    for (size_t i = 0; i < count; i++) {
+        for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
+            /* the oracle's exact in-circle tests over a thousand binary
+             * orders cost seconds a set past a few hundred sites */
+            if (runs[k].n > 400 && !strcmp(bs_shapes[i].name, "mixed-exponents"))
+                continue;
+            double *xy = bs_shape(bs_shapes[i].name, runs[k].n, runs[k].seed);
+            assert_non_null(xy);
+            vor_sites *s = sites_of(xy, runs[k].n);
+            free(xy);
+            char name[64];
+            snprintf(name, sizeof name, "%s:%zu:%llu", bs_shapes[i].name,
+                     runs[k].n, (unsigned long long)runs[k].seed);
+            if (crosscheck(name, s, 0)) failed++;
+            sets++;
+            sites_done(s);
+        }
+    }
+    if (failed) fail_msg("%d of %d shape sets failed", failed, sets);
+}
+
 /* The helper itself: it must find and name a planted difference. */
 static void test_describe_diff(void **state) {
     (void)state;
@@ -557,6 +593,7 @@ int main(void) {
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_random_small),
         cmocka_unit_test(test_distributions),
+        cmocka_unit_test(test_shapes),
     };
     return cmocka_run_group_tests_name("core/crosscheck", tests, NULL, NULL);
 }
