@@ -119,6 +119,9 @@
 #define NO_EDGE UINT32_MAX  /* rightmost arc: no breakpoint to its right */
 #define NO_END (-1)         /* edge record: no end yet */
 
+/* Bytes of an arc, and the alignment of the arc pool (arcs_resize). */
+#define ARC_ALIGN 64
+
 typedef struct arc {
     double xy[2];             /* the arc's site */
     double lxy[2];            /* the left neighbour's site, if prev != NIL */
@@ -196,7 +199,8 @@ typedef struct sweep {
     uint32_t vertex_t[3];
     uint32_t vertex_exact; /* overlaps decided exactly so far */
 
-    arc *arcs;
+    arc *arcs;       /* ARC_ALIGN-aligned, inside arcs_block */
+    void *arcs_block;
     uint8_t *red;    /* colour of each arc */
     uint32_t n_arcs; /* pool slots used, the sentinel included */
     uint32_t cap_arcs;
@@ -1097,6 +1101,27 @@ static uint32_t tri_ghost(sweep *w, uint32_t p, uint32_t q) {
 
 /* ---- Arc pool ------------------------------------------------------------ */
 
+_Static_assert(sizeof(arc) == ARC_ALIGN, "an arc is one cache line");
+
+/* Makes the arc pool a block of cap arcs, each on a cache line of its own,
+ * with the n_arcs in use copied over: 0, or -1 if out of memory (nothing
+ * changed). malloc's blocks start 16 bytes into a line (a large one 16
+ * bytes into its first page), which put every arc across two lines: the
+ * search reads only the first (the sites, the tree links), but a circle
+ * event and the renewals of its neighbours' events read the list links
+ * in the second too. */
+static int arcs_resize(sweep *w, size_t cap) {
+    if (cap > (SIZE_MAX - ARC_ALIGN) / sizeof(arc)) return -1;
+    unsigned char *block = malloc(cap * sizeof(arc) + ARC_ALIGN);
+    if (!block) return -1;
+    arc *a = (arc *)(block + (ARC_ALIGN - (uintptr_t)block % ARC_ALIGN) % ARC_ALIGN);
+    if (w->arcs) memcpy(a, w->arcs, (size_t)w->n_arcs * sizeof *a);
+    free(w->arcs_block);
+    w->arcs_block = block;
+    w->arcs = a;
+    return 0;
+}
+
 /* A new arc of site s (red, unlinked), or NIL if out of memory. */
 static uint32_t arc_new(sweep *w, uint32_t s) {
     uint32_t a;
@@ -1107,9 +1132,7 @@ static uint32_t arc_new(sweep *w, uint32_t s) {
         if (w->n_arcs == w->cap_arcs) {
             if (w->cap_arcs > UINT32_MAX / 4) return NIL;
             uint32_t cap = 2 * w->cap_arcs;
-            arc *na = realloc(w->arcs, (size_t)cap * sizeof *na);
-            if (!na) return NIL;
-            w->arcs = na;
+            if (arcs_resize(w, cap)) return NIL;
             uint8_t *nr = realloc(w->red, cap);
             if (!nr) return NIL;
             w->red = nr;
@@ -2895,7 +2918,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
 static void sweep_free(sweep *w) {
     free(w->xy);
     free(w->orig);
-    free(w->arcs);
+    free(w->arcs_block);
     free(w->red);
     free(w->rec_block);
     free(w->shapes);
@@ -3000,10 +3023,11 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
      * time on 10^5 sites on a circle). Where the address space is short,
      * the arrays start small and double. */
     w.cap_arcs = (uint32_t)(2 * w.n + 2);
-    while (!(w.arcs = malloc(w.cap_arcs * sizeof *w.arcs)) ||
+    while (arcs_resize(&w, w.cap_arcs) ||
            !(w.red = malloc(w.cap_arcs)) || recs_resize(&w, w.cap_arcs)) {
-        free(w.arcs);
+        free(w.arcs_block);
         free(w.red);
+        w.arcs_block = NULL;
         w.arcs = NULL;
         w.red = NULL;
         if (w.cap_arcs <= 64) goto fail;
