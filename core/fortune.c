@@ -1115,6 +1115,8 @@ static int arcs_resize(sweep *w, size_t cap) {
     unsigned char *block = malloc(cap * sizeof(arc) + ARC_ALIGN);
     if (!block) return -1;
     arc *a = (arc *)(block + (ARC_ALIGN - (uintptr_t)block % ARC_ALIGN) % ARC_ALIGN);
+    assert((uintptr_t)a % ARC_ALIGN == 0 &&
+           (unsigned char *)(a + cap) <= block + cap * sizeof(arc) + ARC_ALIGN);
     if (w->arcs) memcpy(a, w->arcs, (size_t)w->n_arcs * sizeof *a);
     free(w->arcs_block);
     w->arcs_block = block;
