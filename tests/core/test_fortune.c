@@ -2092,6 +2092,37 @@ static void test_columns(void **state) {
     assert_true(c.beach_max < N / 8);
 }
 
+/* A long beach line (more than LOCATE_AHEAD, 4096 arcs), whose search
+ * prefetches both children of each arc it tests. Coordinates over twelve
+ * decades, both signs, hold two fifths of the sites on the beach line at
+ * once. Half the sites on a circle and half inside it, in no order: the
+ * circle's arcs stay on the beach line until its top, and the sites
+ * inside fall between them. Each diagram is checked against the other
+ * algorithms (check_points). */
+static void test_long_beach(void **state) {
+    (void)state;
+    enum { N = 40000 };
+    static double xy[2 * N];
+    vt_rng r = {81};
+    print_message("long beach line: seed 81\n");
+    for (size_t i = 0; i < 2 * N; i++)
+        xy[i] = pow(10, 12 * vt_unit(&r) - 6) * (vt_next(&r) & 1 ? 1 : -1);
+    vor_counts c;
+    counts_of("x and y over twelve decades", xy, N, &c);
+    print_message("  beach line: at most %llu arcs\n",
+                  (unsigned long long)c.beach_max);
+    assert_true(c.beach_max > 4096);
+    for (size_t i = 0; i < N; i++) {
+        double a = 6.283185307179586 * vt_unit(&r), q = i % 2 ? 1 : sqrt(vt_unit(&r));
+        xy[2 * i] = q * cos(a);
+        xy[2 * i + 1] = q * sin(a);
+    }
+    counts_of("a circle and the disk inside it", xy, N, &c);
+    print_message("  beach line: at most %llu arcs\n",
+                  (unsigned long long)c.beach_max);
+    assert_true(c.beach_max > 4096);
+}
+
 /* Sites on a curve that bends down from the sweep (y = -x^2): swept up,
  * every site keeps its arc until the sweep is past the last, and the
  * events come in no order along the beach line (1.85 comparisons a
@@ -2820,6 +2851,7 @@ int main(void) {
         cmocka_unit_test(test_unit_circle_1e5),
         cmocka_unit_test(test_grid_1000),
         cmocka_unit_test(test_pixels),
+        cmocka_unit_test(test_long_beach),
     };
     return cmocka_run_group_tests_name("core/fortune", tests, NULL, NULL);
 }
