@@ -183,7 +183,7 @@ typedef struct result {
     int runs;
     size_t n, distinct, vertices, edges, triangles;
     double median_ms, min_ms, first_ms, peak_bytes;
-    double first_sys_ms; /* the kernel's CPU time in the first run, -1 unknown */
+    double first_sys_ms; /* the kernel's CPU time in the first run, or -1 */
     vor_counts counts; /* of the first run */
     char msg[160];
 } result;

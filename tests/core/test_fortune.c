@@ -2117,7 +2117,8 @@ static void test_long_beach(void **state) {
                   (unsigned long long)c.beach_max);
     assert_true(c.beach_max > 4096);
     for (size_t i = 0; i < N; i++) {
-        double a = 6.283185307179586 * vt_unit(&r), q = i % 2 ? 1 : sqrt(vt_unit(&r));
+        double a = 6.283185307179586 * vt_unit(&r);
+        double q = i % 2 ? 1 : sqrt(vt_unit(&r)); /* uniform in the disk */
         xy[2 * i] = q * cos(a);
         xy[2 * i + 1] = q * sin(a);
     }
