@@ -81,6 +81,13 @@ static int liang_barsky(const double *box, const double *p0, const double *dir,
     return *t0 < *t1;
 }
 
+/* How far p lies outside the box (0 inside), in the larger axis. */
+static double far_from(const double *box, const double *p) {
+    double dx = fmax(box[0] - p[0], p[0] - box[2]);
+    double dy = fmax(box[1] - p[1], p[1] - box[3]);
+    return fmax(fmax(dx, dy), 0);
+}
+
 static void clip_edge(const vor_diagram *d, const double *xy, const double *box,
                       size_t e, const size_t *ray_of, vor_clipped *c) {
     const int32_t *en = d->edge_ends + 2 * e;
@@ -91,6 +98,17 @@ static void clip_edge(const vor_diagram *d, const double *xy, const double *box,
     c->seg_in[e] = 0;
     memset(out, 0, 4 * sizeof *out);
     if ((v0 && !finite2(v0)) || (v1 && !finite2(v1))) return;
+    /* from the end nearer the box: the parameters and the points are
+     * computed relative to p0, and a far vertex (the centre of three
+     * sites nearly on a line, 10^14 away) would leave its rounding, a
+     * hundredth there, in the point on the box */
+    int swapped = 0;
+    if (v0 && v1 && far_from(box, v0) > far_from(box, v1)) {
+        const double *t = v0;
+        v0 = v1;
+        v1 = t;
+        swapped = 1;
+    }
     if (v0 && v1) {
         p0[0] = v0[0];
         p0[1] = v0[1];
@@ -135,6 +153,13 @@ static void clip_edge(const vor_diagram *d, const double *xy, const double *box,
     } else {
         out[2] = clampd(p0[0] + s1 * dir[0], box[0], box[2]);
         out[3] = clampd(p0[1] + s1 * dir[1], box[1], box[3]);
+    }
+    if (swapped) { /* the ends back in the edge's order */
+        double x = out[0], y = out[1];
+        out[0] = out[2];
+        out[1] = out[3];
+        out[2] = x;
+        out[3] = y;
     }
     c->seg_in[e] = 1;
 }

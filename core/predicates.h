@@ -365,8 +365,15 @@ static inline int vor__circumcenter_fast(const double *a, const double *b,
     if (!(vor__cc_in_window(bx) & vor__cc_in_window(by) &
           vor__cc_in_window(cx) & vor__cc_in_window(cy)))
         return 0;
-    double d = 2 * (bx * cy - by * cx);
-    if (d == 0)
+    /* a flat triangle (three sites nearly on a line, on the rounded edge
+     * of a turned grid, say): the rounded determinant has an error below
+     * 2^-51 (|p| + |q|), so above 2^-20 of that it is within 2^-30 of
+     * itself; below, its centre, far away, could be off by a per cent,
+     * and the fallback computes the determinant exactly (not at 2^-10:
+     * the ears of 10^6 sites on a circle, at 2^-17, took that path and
+     * Bowyer-Watson a fifth longer) */
+    double p = bx * cy, q = by * cx, d = 2 * (p - q);
+    if (!(fabs(d) > 0x1p-20 * (fabs(p) + fabs(q))))
         return 0;
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
     out[0] = a[0] + (cy * b2 - by * c2) / d + 0.0; /* + 0.0: no -0.0 */

@@ -255,6 +255,22 @@ static void test_centre_flat(void **state) {
         double u[2];
         vor_circumcenter(a, b, c, u);
         assert_true(isfinite(u[0]) && isfinite(u[1]));
+        /* however flat, the centre is within 2^-28 of its distance from
+         * a (the bound above grows with the flatness: a rounded
+         * determinant passed it, off by a per cent) */
+        ref r;
+        make_ref(a, b, c, &r);
+        if (!r.finite) continue;
+        double off = fmax(fabs(r.u[0] - a[0]), fabs(r.u[1] - a[1]));
+        for (int j = 0; j < 2; j++) {
+            double err = fabs(u[j] - r.u[j]);
+            if (!(err <= 0x1p-28 * off + 4 * DBL_EPSILON * fabs(r.u[j]))) {
+                print_error("flat (%a,%a) (%a,%a) (%a,%a): [%d] = %a, exact "
+                            "%a, off by %g of %g\n", a[0], a[1], b[0], b[1],
+                            c[0], c[1], j, u[j], r.u[j], err, off);
+                fail();
+            }
+        }
     }
     printf("# flat triangles: %d checked, %d with a double det of 0, worst "
            "error %.3g of the bound\n", checked, zero_d, worst_ratio);

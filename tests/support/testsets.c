@@ -296,6 +296,25 @@ static double *mk_jittered_grid(size_t *n) {
     return xy;
 }
 
+/* A 40x40 grid turned by 45 degrees, each coordinate (i -+ j) sqrt(1/2)
+ * rounded: every cell a diamond whose four sites are nearly cocircular,
+ * the circles' tops of a row and the sites above them apart by less than
+ * 2^-300, never equal, so that most ties go to the exact comparisons. */
+static double *mk_turned_grid(size_t *n) {
+    const size_t k = 40;
+    double *xy = alloc_xy(k * k);
+    *n = k * k;
+    if (!xy) return NULL;
+    const double c = 0.70710678118654757; /* sqrt(1/2), rounded */
+    for (size_t i = 0; i < k; i++) {
+        for (size_t j = 0; j < k; j++) {
+            xy[2 * (i * k + j)] = ((double)i - (double)j) * c;
+            xy[2 * (i * k + j) + 1] = ((double)i + (double)j) * c;
+        }
+    }
+    return xy;
+}
+
 static double *scaled_uniform(size_t n, uint64_t seed, double scale,
                               double offset) {
     double *xy = vt_uniform(n, seed);
@@ -410,6 +429,7 @@ static const struct {
     {"random-walk-2000", mk_random_walk},
     {"tracks-3000", mk_tracks},
     {"jittered-grid-40x40", mk_jittered_grid},
+    {"turned-grid-40x40", mk_turned_grid},
 };
 
 size_t vt_count(void) { return sizeof sets / sizeof sets[0]; }

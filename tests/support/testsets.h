@@ -6,8 +6,9 @@
  * (float circle, hexagonal lattice), rows of equal y, huge offsets and tiny or
  * huge scales, heavy tails, one far outlier, twelve decades at once,
  * sites in convex position (a parabola), data as it is logged (a time
- * series, GPS-like tracks), a grid jittered by 10^-12, and the trivial
- * sizes 0, 1, 2, 3. Plus the generators, so a test can make its own sizes
+ * series, GPS-like tracks), a grid jittered by 10^-12, a grid turned by
+ * 45 degrees with its coordinates rounded, and the trivial sizes 0, 1, 2,
+ * 3. Plus the generators, so a test can make its own sizes
  * and seeds, among them the service's own distributions. Deterministic:
  * the same name gives the same doubles on every machine (no libm calls
  * whose rounding may vary except sin/cos for the float circle, the tracks
