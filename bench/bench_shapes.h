@@ -11,6 +11,7 @@
  *                   moved by up to 10^-12 (nearly cocircular everywhere)
  *   hex-lattice     rows 0.866 apart, every other one shifted by a half
  *   rotated-grid    the integer grid turned by 0.3 radians, rounded
+ *   diamond-grid    the integer grid turned by 45 degrees, rounded
  *   disk-lattice    the integer points of a disk, in random order
  *   ulp-lattice     random points of a 4096 x 4096 lattice of step 2^-52
  *                   at (1, 1)
@@ -18,6 +19,8 @@
  *   parabola-down   y = -x^2
  *   half-circle     the upper half of the unit circle, random angles
  *   circle-centre   the unit circle at random angles, and its centre
+ *   polygon         the corners of a regular n-gon
+ *   rings           ten concentric circles, random angles
  *   int-circle      integer points nearest a circle of radius 10^7
  *   spiral          r = t, t uniform in [0, 300)
  *   star            16 rays from the origin, radius uniform in [0, 1)
@@ -101,6 +104,20 @@ static void bs_rotated_grid(vt_rng *r, double *xy, size_t n) {
     }
 }
 
+/* The grid turned by 45 degrees, each coordinate (a -+ b) sqrt(1/2)
+ * rounded: diamonds whose circles' tops and the sites above them agree to
+ * better than 2^-300 without being equal. */
+static void bs_diamond_grid(vt_rng *r, double *xy, size_t n) {
+    (void)r;
+    size_t k = bs_side(n);
+    const double c = 0.70710678118654757; /* sqrt(1/2), rounded */
+    for (size_t i = 0; i < n; i++) {
+        double a = (double)(i % k), b = (double)(i / k);
+        xy[2 * i] = (a - b) * c;
+        xy[2 * i + 1] = (a + b) * c;
+    }
+}
+
 /* The integer points of the smallest disk around 0 that holds n, the
  * first n of them after a shuffle. */
 static void bs_disk_lattice(vt_rng *r, double *xy, size_t n) {
@@ -165,6 +182,25 @@ static void bs_half_circle(vt_rng *r, double *xy, size_t n) {
         double t = BS_PI * vt_unit(r);
         xy[2 * i] = cos(t);
         xy[2 * i + 1] = sin(t);
+    }
+}
+
+/* The corners of a regular n-gon on the unit circle, in order. */
+static void bs_polygon(vt_rng *r, double *xy, size_t n) {
+    (void)r;
+    for (size_t i = 0; i < n; i++) {
+        double t = 2 * BS_PI * (double)i / (double)n;
+        xy[2 * i] = cos(t);
+        xy[2 * i + 1] = sin(t);
+    }
+}
+
+/* Ten circles of radius 1 to 10 around 0, random angles. */
+static void bs_rings(vt_rng *r, double *xy, size_t n) {
+    for (size_t i = 0; i < n; i++) {
+        double rad = (double)(1 + vt_next(r) % 10), t = 2 * BS_PI * vt_unit(r);
+        xy[2 * i] = rad * cos(t);
+        xy[2 * i + 1] = rad * sin(t);
     }
 }
 
@@ -279,12 +315,15 @@ static const struct {
     {"jittered-grid", bs_jittered_grid},
     {"hex-lattice", bs_hex_lattice},
     {"rotated-grid", bs_rotated_grid},
+    {"diamond-grid", bs_diamond_grid},
     {"disk-lattice", bs_disk_lattice},
     {"ulp-lattice", bs_ulp_lattice},
     {"parabola", bs_parabola},
     {"parabola-down", bs_parabola_down},
     {"half-circle", bs_half_circle},
     {"circle-centre", bs_circle_centre},
+    {"polygon", bs_polygon},
+    {"rings", bs_rings},
     {"int-circle", bs_int_circle},
     {"spiral", bs_spiral},
     {"star", bs_star},
