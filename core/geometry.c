@@ -48,6 +48,20 @@ _Static_assert(LDBL_MAX_EXP >= 4096 && LDBL_MIN_EXP <= -4096,
  * non-finite result. */
 static void circumcenter_long(const double *a, const double *b,
                               const double *c, double *out) {
+    /* from an end of the shortest side: from the far corner of a sliver
+     * (two sites 10^-10 apart, the third 10^10 away) the differences
+     * would round away the short side, and the centre with it (it came
+     * out at the far site itself). A turn of the corners keeps the
+     * orientation, and so the exact determinant. */
+    long double ab = hypotl((long double)b[0] - a[0], (long double)b[1] - a[1]);
+    long double bc = hypotl((long double)c[0] - b[0], (long double)c[1] - b[1]);
+    long double ca = hypotl((long double)a[0] - c[0], (long double)a[1] - c[1]);
+    if (bc < ab && bc < ca) {
+        const double *t = a;
+        a = b;
+        b = c;
+        c = t;
+    }
     long double bx = (long double)b[0] - a[0], by = (long double)b[1] - a[1];
     long double cx = (long double)c[0] - a[0], cy = (long double)c[1] - a[1];
     long double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;

@@ -376,8 +376,17 @@ static inline int vor__circumcenter_fast(const double *a, const double *b,
     if (!(fabs(d) > 0x1p-20 * (fabs(p) + fabs(q))))
         return 0;
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-    out[0] = a[0] + (cy * b2 - by * c2) / d + 0.0; /* + 0.0: no -0.0 */
-    out[1] = a[1] + (bx * c2 - cx * b2) / d + 0.0;
+    /* likewise the numerators: a needle (two sites 10^-7 apart, the third
+     * 3 away along a curve) cancels 25 bits of one, and its centre was off
+     * by 2^-27 of its distance; then the fallback starts from an end of
+     * the short side, where they do not cancel */
+    double px = cy * b2, qx = by * c2, py = bx * c2, qy = cx * b2;
+    double nx = px - qx, ny = py - qy;
+    if (!(fmax(fabs(nx), fabs(ny)) >
+          0x1p-20 * fmax(fabs(px) + fabs(qx), fabs(py) + fabs(qy))))
+        return 0;
+    out[0] = a[0] + nx / d + 0.0; /* + 0.0: no -0.0 */
+    out[1] = a[1] + ny / d + 0.0;
     return 1;
 }
 

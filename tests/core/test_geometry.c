@@ -235,6 +235,65 @@ static void test_centre_mixed_ranges(void **state) {
 
 /* Flat triangles, including ones whose double determinant rounds to 0
  * although the exact one (vor_orient2d) is not. */
+/* However flat or thin the triangle, its centre is within 2^-28 of its
+ * distance from a (check_centre's bound grows with the conditioning: a
+ * rounded determinant passed it off by a per cent, and a needle's
+ * cancelled numerator by 2^-27). */
+static void check_close(const double *a, const double *b, const double *c) {
+    ref r;
+    make_ref(a, b, c, &r);
+    if (!r.finite) return;
+    double u[2];
+    vor_circumcenter(a, b, c, u);
+    double off = fmax(fabs(r.u[0] - a[0]), fabs(r.u[1] - a[1]));
+    for (int j = 0; j < 2; j++) {
+        double err = fabs(u[j] - r.u[j]);
+        if (!(err <= 0x1p-28 * off + 4 * DBL_EPSILON * fabs(r.u[j]))) {
+            print_error("centre of (%a,%a) (%a,%a) (%a,%a): [%d] = %a, exact "
+                        "%a, off by %g of %g\n", a[0], a[1], b[0], b[1], c[0],
+                        c[1], j, u[j], r.u[j], err, off);
+            fail();
+        }
+    }
+}
+
+/* Needles and slivers: two sites 2^-10 to 2^-45 of the third's distance
+ * apart, in every order; among them, the two found in use (a site 10^10
+ * away from two 1.4 10^-10 apart, whose centre came out at the far site;
+ * two sites 10^-7 apart on a sine curve and one 3 away). */
+static void test_centre_needles(void **state) {
+    (void)state;
+    const double far[3][2] = {{0x1.2a05f2p+33, 0x1.2a05f2p+33},
+                              {-0x1.8425f31e7df3ep-33, 0x1.b90f94b6cee1ap-32},
+                              {-0x1.45024e691dd19p-35, 0x1.c1ba7f483f00fp-32}};
+    const double sine[3][2] = {{0x1.c53707bfba27ep+5, 0x1.a5f7a7620cbb2p-4},
+                               {0x1.dcb2149e2a947p+5, 0x1.a664b1d56aea5p-4},
+                               {0x1.dcb214ab81f9ep+5, 0x1.a664974b0b01bp-4}};
+    for (int k = 0; k < 3; k++) {
+        check_close(far[k], far[(k + 1) % 3], far[(k + 2) % 3]);
+        check_close(sine[k], sine[(k + 1) % 3], sine[(k + 2) % 3]);
+    }
+    for (int k = 0; k < 20000; k++) {
+        double p[3][2], len = ldexp(1.0, -10 - (int)(vt_next(&rng) % 36));
+        double t = 6.283185307179586 * vt_unit(&rng);
+        p[0][0] = sym();
+        p[0][1] = sym();
+        p[1][0] = p[0][0] + len * cos(t);
+        p[1][1] = p[0][1] + len * sin(t);
+        p[2][0] = sym();
+        p[2][1] = sym();
+        int s = (int)(vt_next(&rng) % 3); /* which corner comes first */
+        const double *a = p[s], *b = p[(s + 1) % 3], *c = p[(s + 2) % 3];
+        if (vor_orient2d(a, b, c) < 0) {
+            const double *x = b;
+            b = c;
+            c = x;
+        }
+        if (vor_orient2d(a, b, c) == 0) continue;
+        check_close(a, b, c);
+    }
+}
+
 static void test_centre_flat(void **state) {
     (void)state;
     int zero_d = 0, checked = 0;
@@ -255,22 +314,7 @@ static void test_centre_flat(void **state) {
         double u[2];
         vor_circumcenter(a, b, c, u);
         assert_true(isfinite(u[0]) && isfinite(u[1]));
-        /* however flat, the centre is within 2^-28 of its distance from
-         * a (the bound above grows with the flatness: a rounded
-         * determinant passed it, off by a per cent) */
-        ref r;
-        make_ref(a, b, c, &r);
-        if (!r.finite) continue;
-        double off = fmax(fabs(r.u[0] - a[0]), fabs(r.u[1] - a[1]));
-        for (int j = 0; j < 2; j++) {
-            double err = fabs(u[j] - r.u[j]);
-            if (!(err <= 0x1p-28 * off + 4 * DBL_EPSILON * fabs(r.u[j]))) {
-                print_error("flat (%a,%a) (%a,%a) (%a,%a): [%d] = %a, exact "
-                            "%a, off by %g of %g\n", a[0], a[1], b[0], b[1],
-                            c[0], c[1], j, u[j], r.u[j], err, off);
-                fail();
-            }
-        }
+        check_close(a, b, c);
     }
     printf("# flat triangles: %d checked, %d with a double det of 0, worst "
            "error %.3g of the bound\n", checked, zero_d, worst_ratio);
@@ -373,6 +417,7 @@ int main(void) {
         cmocka_unit_test(test_centre_random_scales),
         cmocka_unit_test(test_centre_mixed_ranges),
         cmocka_unit_test(test_centre_flat),
+        cmocka_unit_test(test_centre_needles),
         cmocka_unit_test(test_bisector),
     };
     return cmocka_run_group_tests_name("core/geometry", tests, setup_seed,
