@@ -873,6 +873,28 @@ static void test_site_first(void **state) {
     }
     print_message("site_first: %d decided by small integers\n", small);
     assert_true(small > 20000);
+    /* subnormal coordinates beside normal ones (the exact stage reads the
+     * doubles' bits: a subnormal's unit is 2^-1074) */
+    int mixed = 0;
+    for (int it = 0; it < 5000; it++) {
+        double t[3][2], s[2], *v[8] = {t[0], t[0] + 1, t[1], t[1] + 1,
+                                       t[2], t[2] + 1, s, s + 1};
+        for (int k = 0; k < 8; k++) { /* 2^-1022 is the least normal */
+            double m = (double)((long)(vt_next(&r) % 2001) - 1000);
+            *v[k] = ldexp(m, -1074) + (vt_next(&r) % 2 ? 0x1p-1022 : 0);
+        }
+        int o = vor_orient2d(t[0], t[1], t[2]);
+        if (o == 0) continue;
+        if (o < 0) {
+            double sw[2] = {t[1][0], t[1][1]};
+            memcpy(t[1], t[2], sizeof sw);
+            memcpy(t[2], sw, sizeof sw);
+        }
+        assert_int_equal(vor__fortune_site_first_exact(s, t[0], t[1], t[2]),
+                         q_site_first(s, t[0], t[1], t[2]));
+        mixed++;
+    }
+    assert_true(mixed > 1000);
     /* sites exactly at the top of integer circles, and beside it */
     const double a[2] = {-4, -3}, b[2] = {0, -5}, c[2] = {4, -3};
     const double top[2] = {0, 5}, l[2] = {-1, 5}, rr[2] = {1, 5};
