@@ -18,17 +18,24 @@
  *
  * In doubles when every nonzero difference lies in [2^-300, 2^300]: then
  * the degree-3 numerators lie within [2^-900, 2^903], d is 0 or at least
- * 2^-652, and nothing overflows or underflows (relative error a few ulps
- * times the triangle's conditioning). Otherwise, or when d rounds to 0 for
- * a very flat triangle, in long double: its 15-bit exponent holds any
- * product of three doubles, so huge, tiny and mixed magnitudes (1e300 next
- * to 1e-300) need no rescaling at all; d then comes from the exact
- * determinant (vor__orient2d_value), so a flat triangle whose rounded
- * determinant vanishes still gets its far-away centre. The build requires
- * such a long double (x86 extended or binary128); a static assertion says
- * so.
+ * 2^-652, and nothing overflows or underflows; and when neither d nor the
+ * larger numerator has cancelled to below 2^-20 of its terms, so that
+ * each is within about 2^-30 of itself and the centre within 2^-30 of its
+ * distance from a (tests/core/test_geometry.c checks 2^-28 against exact
+ * centres). Otherwise -- huge, tiny or mixed magnitudes, a flat triangle,
+ * a needle -- in long double, from an end of the triangle's shortest
+ * side: its 15-bit exponent holds any product of three doubles, so 1e300
+ * next to 1e-300 needs no rescaling at all; d comes from the exact
+ * determinant (vor__orient2d_value), so a flat triangle still gets its
+ * far-away centre; and from the short side's end the numerators do not
+ * cancel, and the short side is not rounded away by differences taken
+ * from a far corner (a site 10^10 away from two 10^-10 apart). The
+ * build requires such a long double (x86 extended or binary128); a
+ * static assertion says so.
  *
- * Cost: about 10 ns in doubles, about 100 ns on the long double path.
+ * Cost: about 10 ns in doubles, about 100 ns on the long double path,
+ * which took none of the 2 * 10^6 vertices of 10^6 uniform, gaussian or
+ * circle sites, 2% of those of 10^5 sites on a parabola.
  */
 #include <float.h>
 #include <math.h>
