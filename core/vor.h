@@ -445,8 +445,9 @@ void vor_clipped_free(vor_clipped *c);
 
 /* Centre of the circle through a, b, c (each x,y). The caller passes the
  * three sites in increasing site index order so that the result is the
- * same whichever algorithm asks. Computed relative to a, finite for any
- * non-collinear finite input unless the true centre overflows. */
+ * same whichever algorithm asks. Finite for any non-collinear finite
+ * input unless the true centre overflows, and within about 2^-30 of its
+ * distance from a however flat or thin the triangle (core/geometry.c). */
 void vor_circumcenter(const double *a, const double *b, const double *c,
                       double *out);
 
