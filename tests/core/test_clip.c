@@ -76,6 +76,17 @@ static int in_ring(const double *ring, size_t m, const double *p, double dtol,
     return 1;
 }
 
+/* in_ring's atol for ring (m + 1 points): a corner's rounding, at the
+ * ring's own magnitude, times a distance across the box (w + h). With
+ * the box's magnitude instead, a cell 10^-10 wide in a box 10^10 wide
+ * (a dense cluster and a stray) took in every point of the box. */
+static double ring_atol(const double *ring, size_t m, double w, double h) {
+    double mag = 0;
+    for (size_t u = 0; u <= m; u++)
+        mag = fmax(mag, fmax(fabs(ring[2 * u]), fabs(ring[2 * u + 1])));
+    return 64 * DBL_EPSILON * mag * sc * (w + h);
+}
+
 /* All the properties of one clipping. */
 static void check_clip(const vor_diagram *d, const vor_sites *s,
                        const double *box, const char *what) {
@@ -90,8 +101,9 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
     for (int k = 0; k < 4; k++) mag = fmax(mag, fabs(box[k]));
     const double ulps = 64 * DBL_EPSILON * mag * sc;
     const double tol = 1e-9 * w * h + ulps * (w + h);
-    /* for in_ring: the relative part as a distance, the rounding apart */
-    const double dtol = 1e-9 * w * h / (w + h), atol = ulps * (w + h);
+    /* for in_ring: the relative part as a distance, with the rounding of
+     * a point of the box's magnitude; a ring's corners' apart (ring_atol) */
+    const double dtol = 1e-9 * w * h / (w + h) + ulps;
     double total = 0;
     assert_int_equal(c->poly_start[0], 0);
     for (size_t i = 0; i < s->n; i++) {
@@ -118,7 +130,8 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
         /* a site inside the box is inside its own polygon */
         const double *site = s->xy + 2 * i;
         if (site[0] > box[0] && site[0] < box[2] && site[1] > box[1] &&
-            site[1] < box[3] && !in_ring(ring, m, site, dtol, atol))
+            site[1] < box[3] &&
+            !in_ring(ring, m, site, dtol, ring_atol(ring, m, w, h)))
             fail_msg("%s: site %zu is outside its own polygon", what, i);
     }
     if (s->n > 0 && fabs(total - w * h) > 1e-9 * w * h)
@@ -144,8 +157,9 @@ static void check_clip(const vor_diagram *d, const vor_sites *s,
         if (second - bd < 1e-6 * (bd + w * w)) continue; /* a near tie */
         for (size_t i = 0; i < s->n; i++) {
             size_t lo = c->poly_start[i], np = c->poly_start[i + 1] - lo;
-            int in = np > 0 && in_ring(c->poly_xy + 2 * lo, np - 1, corner, dtol,
-                                      atol);
+            const double *ring = c->poly_xy + 2 * lo;
+            int in = np > 0 && in_ring(ring, np - 1, corner, dtol,
+                                      ring_atol(ring, np - 1, w, h));
             if (in != (i == best))
                 fail_msg("%s: corner %d %s the polygon of site %zu (nearest: %zu)",
                          what, k, in ? "lies in" : "is missing from", i, best);

@@ -294,6 +294,40 @@ static void test_centre_needles(void **state) {
     }
 }
 
+/* Every vertex of every standard set (tests/support/testsets.c: grids
+ * turned and jittered, a cluster beside a stray 10^20 times farther,
+ * curves, twelve decades) within 2^-28 of its exact centre's distance
+ * from its first site. */
+static void test_centre_standard_sets(void **state) {
+    (void)state;
+    size_t checked = 0;
+    for (size_t k = 0; k < vt_count(); k++) {
+        vt_set set;
+        assert_int_equal(vt_make(k, &set), 0);
+        vor_sites *s = NULL;
+        vor_diagram *d = NULL;
+        if (vor_sites_new(set.xy, set.n, &s, NULL) == VOR_OK &&
+            vor_compute(s, VOR_FLIP, &d) == VOR_OK) {
+            for (size_t v = 0; v < d->n_vertices; v++) {
+                const uint32_t *t = d->vertex_sites + 3 * v;
+                const double *a = s->xy + 2 * (size_t)t[0],
+                             *b = s->xy + 2 * (size_t)t[1],
+                             *c = s->xy + 2 * (size_t)t[2];
+                double u[2];
+                vor_circumcenter(a, b, c, u);
+                assert_memory_equal(u, d->vertex_xy + 2 * v, sizeof u);
+                check_close(a, b, c);
+                checked++;
+            }
+        }
+        vor_diagram_free(d);
+        vor_sites_free(s);
+        vt_set_free(&set);
+    }
+    printf("# %zu vertices of %zu sets checked\n", checked, vt_count());
+    assert_true(checked > 10000);
+}
+
 static void test_centre_flat(void **state) {
     (void)state;
     int zero_d = 0, checked = 0;
@@ -418,6 +452,7 @@ int main(void) {
         cmocka_unit_test(test_centre_mixed_ranges),
         cmocka_unit_test(test_centre_flat),
         cmocka_unit_test(test_centre_needles),
+        cmocka_unit_test(test_centre_standard_sets),
         cmocka_unit_test(test_bisector),
     };
     return cmocka_run_group_tests_name("core/geometry", tests, setup_seed,

@@ -315,6 +315,33 @@ static double *mk_turned_grid(size_t *n) {
     return xy;
 }
 
+/* 1000 uniform points in a square 10^-10 wide at 0 and one stray 10^10
+ * away on the diagonal: the vertices next to the stray's cell are the
+ * centres of slivers (two sites 10^-10 apart, the third 10^10 away); and
+ * pairs of sites 10^-7 apart on a sine curve, whose triangles with a
+ * third site are needles. */
+static double *mk_stray_and_needles(size_t *n) {
+    *n = 1001 + 600;
+    double *xy = alloc_xy(*n);
+    if (!xy) return NULL;
+    vt_rng r = {23};
+    for (size_t i = 0; i < 1000; i++) {
+        xy[2 * i] = 1e-10 * vt_unit(&r);
+        xy[2 * i + 1] = 1e-10 * vt_unit(&r);
+    }
+    xy[2000] = 1e10;
+    xy[2001] = 1e10;
+    /* a sine curve sampled in pairs 10^-7 apart, away from the cluster */
+    for (size_t i = 0; i < 300; i++) {
+        double x = 1e3 + 100 * vt_unit(&r);
+        for (int k = 0; k < 2; k++) {
+            xy[2 * (1001 + 2 * i + k)] = x + 1e-7 * k;
+            xy[2 * (1001 + 2 * i + k) + 1] = 1e3 + sin(x + 1e-7 * k);
+        }
+    }
+    return xy;
+}
+
 static double *scaled_uniform(size_t n, uint64_t seed, double scale,
                               double offset) {
     double *xy = vt_uniform(n, seed);
@@ -430,6 +457,7 @@ static const struct {
     {"tracks-3000", mk_tracks},
     {"jittered-grid-40x40", mk_jittered_grid},
     {"turned-grid-40x40", mk_turned_grid},
+    {"stray-and-needles", mk_stray_and_needles},
 };
 
 size_t vt_count(void) { return sizeof sets / sizeof sets[0]; }

@@ -7,8 +7,9 @@
  * huge scales, heavy tails, one far outlier, twelve decades at once,
  * sites in convex position (a parabola), data as it is logged (a time
  * series, GPS-like tracks), a grid jittered by 10^-12, a grid turned by
- * 45 degrees with its coordinates rounded, and the trivial sizes 0, 1, 2,
- * 3. Plus the generators, so a test can make its own sizes
+ * 45 degrees with its coordinates rounded, a cluster 10^-10 wide beside a
+ * stray 10^10 away (and pairs of sites 10^-7 apart on a curve), and the
+ * trivial sizes 0, 1, 2, 3. Plus the generators, so a test can make its own sizes
  * and seeds, among them the service's own distributions. Deterministic:
  * the same name gives the same doubles on every machine (no libm calls
  * whose rounding may vary except sin/cos for the float circle, the tracks
