@@ -382,8 +382,9 @@ static inline int vor__circumcenter_fast(const double *a, const double *b,
      * the short side, where they do not cancel */
     double px = cy * b2, qx = by * c2, py = bx * c2, qy = cx * b2;
     double nx = px - qx, ny = py - qy;
-    if (!(fmax(fabs(nx), fabs(ny)) >
-          0x1p-20 * fmax(fabs(px) + fabs(qx), fabs(py) + fabs(qy))))
+    double n = fabs(nx) > fabs(ny) ? fabs(nx) : fabs(ny); /* not fmax: */
+    double tx = fabs(px) + fabs(qx), ty = fabs(py) + fabs(qy); /* a call */
+    if (!(n > 0x1p-20 * (tx > ty ? tx : ty)))
         return 0;
     out[0] = a[0] + nx / d + 0.0; /* + 0.0: no -0.0 */
     out[1] = a[1] + ny / d + 0.0;
