@@ -883,13 +883,7 @@ static void test_site_first(void **state) {
             double m = (double)((long)(vt_next(&r) % 2001) - 1000);
             *v[k] = ldexp(m, -1074) + (vt_next(&r) % 2 ? 0x1p-1022 : 0);
         }
-        int o = vor_orient2d(t[0], t[1], t[2]);
-        if (o == 0) continue;
-        if (o < 0) {
-            double sw[2] = {t[1][0], t[1][1]};
-            memcpy(t[1], t[2], sizeof sw);
-            memcpy(t[2], sw, sizeof sw);
-        }
+        if (!make_ccw(t)) continue;
         assert_int_equal(vor__fortune_site_first_exact(s, t[0], t[1], t[2]),
                          q_site_first(s, t[0], t[1], t[2]));
         mixed++;
