@@ -306,19 +306,18 @@ static void test_centre_standard_sets(void **state) {
         assert_int_equal(vt_make(k, &set), 0);
         vor_sites *s = NULL;
         vor_diagram *d = NULL;
-        if (vor_sites_new(set.xy, set.n, &s, NULL) == VOR_OK &&
-            vor_compute(s, VOR_FLIP, &d) == VOR_OK) {
-            for (size_t v = 0; v < d->n_vertices; v++) {
-                const uint32_t *t = d->vertex_sites + 3 * v;
-                const double *a = s->xy + 2 * (size_t)t[0],
-                             *b = s->xy + 2 * (size_t)t[1],
-                             *c = s->xy + 2 * (size_t)t[2];
-                double u[2];
-                vor_circumcenter(a, b, c, u);
-                assert_memory_equal(u, d->vertex_xy + 2 * v, sizeof u);
-                check_close(a, b, c);
-                checked++;
-            }
+        assert_int_equal(vor_sites_new(set.xy, set.n, &s, NULL), VOR_OK);
+        assert_int_equal(vor_compute(s, VOR_FLIP, &d), VOR_OK);
+        for (size_t v = 0; v < d->n_vertices; v++) {
+            const uint32_t *t = d->vertex_sites + 3 * v;
+            const double *a = s->xy + 2 * (size_t)t[0],
+                         *b = s->xy + 2 * (size_t)t[1],
+                         *c = s->xy + 2 * (size_t)t[2];
+            double u[2];
+            vor_circumcenter(a, b, c, u);
+            assert_memory_equal(u, d->vertex_xy + 2 * v, sizeof u);
+            check_close(a, b, c);
+            checked++;
         }
         vor_diagram_free(d);
         vor_sites_free(s);
