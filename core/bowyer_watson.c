@@ -146,7 +146,8 @@ VOR__COLD static void trace_insert(bw *st, uint32_t p, const uint32_t *cav,
 }
 
 /* Inserts vertex p. VOR_ENOMEM if the scratch arrays cannot grow; the
- * mesh is then inconsistent and only good for vor__mesh_clear. */
+ * mesh is then inconsistent and only good for vor__mesh_clear. VOR_EINVAL
+ * if p repeats a vertex (the mesh untouched). */
 static vor_status insert(bw *st, uint32_t p) {
     vor__mesh *m = st->m;
     uint32_t *tri = m->tri;
@@ -155,7 +156,10 @@ static vor_status insert(bw *st, uint32_t p) {
     const double *pp = XY(p);
     int32_t on_edge;
     uint32_t t0 = vor__mesh_locate(m, xy, p, &st->w, &on_edge);
-    (void)on_edge; /* a triangle with p on an edge is in conflict too */
+    /* a triangle with p on an edge is in conflict too; p at a vertex is
+     * a repeated site */
+    if (on_edge >= 0 && vor__mesh_at_vertex(m, xy, p, (uint32_t)on_edge))
+        return VOR_EINVAL;
     const int tracing = st->run->trace != NULL;
     uint64_t ghosts = 0; /* ghost tests, orientation only */
 

@@ -764,6 +764,12 @@ vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out) {
     for (size_t i = 0; i < n; i++) ord[i] = (uint32_t)i;
     sort_along(s->xy, ord, tmp, n);
     for (size_t k = 0; k < ne; k++) {
+        const double *p = s->xy + 2 * (size_t)ord[k],
+                     *q = s->xy + 2 * (size_t)ord[k + 1];
+        if (p[0] == q[0] && p[1] == q[1]) { /* a repeated site (by hand) */
+            st = VOR_EINVAL;
+            goto fail;
+        }
         edges[2 * k] = ord[k];
         edges[2 * k + 1] = ord[k + 1];
         ends[2 * k] = ends[2 * k + 1] = VOR_NONE;

@@ -450,6 +450,8 @@ static vor_status insert(flipper *st, uint32_t p) {
     int32_t on_edge;
     assert(m->n_tri + 2 <= m->cap_tri);
     uint32_t t = vor__mesh_locate(m, st->xy, p, &st->w, &on_edge);
+    if (on_edge >= 0 && vor__mesh_at_vertex(m, st->xy, p, (uint32_t)on_edge))
+        return VOR_EINVAL; /* a repeated site */
     if (st->tracing && trace_located(st, t, on_edge))
         return VOR_ENOMEM;
     if (vor__mesh_is_ghost(m->tri, t)) {

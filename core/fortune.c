@@ -821,12 +821,17 @@ static vor_status sort_sites(sweep *w, const vor_sites *s, frame f) {
     } else if (!(r = bucket_sort(&w->ymap, a, tmp, n))) {
         goto done;
     }
+    /* sorted by (y, x), a repeated site lies next to its twin: vor_sites_new
+     * never makes one, a vor_sites filled by hand can, and the sweep would
+     * split an arc at its own site (VOR_EINVAL) */
+    int repeat = 0;
     for (size_t j = 0; j < n; j++) {
         w->xy[2 * j] = r[j].x;
         w->xy[2 * j + 1] = kdouble(r[j].k);
         w->orig[j] = r[j].i;
+        repeat |= j > 0 && r[j].k == r[j - 1].k && r[j].x == r[j - 1].x;
     }
-    st = VOR_OK;
+    st = repeat ? VOR_EINVAL : VOR_OK;
 done:
     return st;
 }

@@ -85,6 +85,21 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
 uint32_t vor__mesh_locate(const vor__mesh *m, const double *xy, uint32_t p,
                           vor__walk *w, int32_t *on_edge);
 
+/* 1 if vertex p lies at an end of half-edge e, which vor__mesh_locate
+ * gave as *on_edge: p repeats a vertex of the mesh. vor_sites_new never
+ * makes such sites; a vor_sites filled by hand can, and the insertions
+ * answer VOR_EINVAL rather than build a mesh with a triangle of no area
+ * (flip's walks then cycle; Bowyer-Watson's cavity leaves p unlinked).
+ * Only where p lies on an edge, which is rare: no cost to the common
+ * path. */
+static inline int vor__mesh_at_vertex(const vor__mesh *m, const double *xy,
+                                      uint32_t p, uint32_t e) {
+    const double *q = xy + 2 * (size_t)p;
+    const double *a = xy + 2 * (size_t)m->tri[e];
+    const double *b = xy + 2 * (size_t)m->tri[vor__next(e)];
+    return (q[0] == a[0] && q[1] == a[1]) || (q[0] == b[0] && q[1] == b[1]);
+}
+
 /* The larger side of the bounding box of the n >= 1 points at xy (2n
  * doubles), as rounded by one subtraction: the span to give
  * vor__orient2d_static_bound (predicates.h) for orientation tests among

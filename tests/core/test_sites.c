@@ -256,6 +256,97 @@ static void test_random_brute(void **state) {
     }
 }
 
+/* vor_compute with a vor_sites filled by hand that repeats a site: every
+ * algorithm answers VOR_EINVAL with no diagram, where the sweep had
+ * corrupted its heap and flip's walk cycled. Sets of small integer
+ * coordinates (many repeats), sets with one repeat of a hull vertex, of
+ * an inner site and of the first site, on a line, and signed zeros; sets
+ * that happen to repeat nothing must compute. */
+static void compute_by_hand(const double *xy, size_t n, int repeats) {
+    uint32_t *ident = malloc(n * sizeof *ident);
+    assert_non_null(ident);
+    for (size_t i = 0; i < n; i++) ident[i] = (uint32_t)i;
+    vor_sites s = {n, n, (double *)xy, ident, ident};
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        vor_diagram *d = (vor_diagram *)&d;
+        vor_status st = vor_compute(&s, (vor_algorithm)a, &d);
+        if (repeats) {
+            if (st != VOR_EINVAL)
+                fail_msg("%s on %zu sites with a repeat: %s",
+                         vor_algorithm_name((vor_algorithm)a), n,
+                         vor_status_name(st));
+            assert_null(d);
+        } else {
+            assert_int_equal(st, VOR_OK);
+            vor_diagram_free(d);
+        }
+    }
+    free(ident);
+}
+
+/* 1 if two of the n points are equal, by vor_sites_new's count */
+static int has_repeat(const double *xy, size_t n) {
+    vor_sites *s = make(xy, n);
+    int r = s->n < n;
+    vor_sites_free(s);
+    return r;
+}
+
+static void test_repeats_by_hand(void **state) {
+    (void)state;
+    vt_rng r = {seed};
+    static const size_t sizes[] = {3, 4, 5, 20, 100, 1000, 5000};
+    static const int ranges[] = {2, 3, 5, 10, 30, 100, 1000};
+    double *xy = malloc(2 * 5001 * sizeof *xy);
+    assert_non_null(xy);
+    int repeated = 0, distinct = 0;
+    for (size_t i = 0; i < sizeof sizes / sizeof *sizes; i++)
+        for (size_t j = 0; j < sizeof ranges / sizeof *ranges; j++) {
+            size_t n = sizes[i];
+            for (size_t k = 0; k < 2 * n; k++)
+                xy[k] = (double)(vt_next(&r) % (uint64_t)ranges[j]);
+            int rep = has_repeat(xy, n);
+            repeated += rep;
+            distinct += !rep;
+            compute_by_hand(xy, n, rep);
+        }
+    assert_true(repeated >= 20 && distinct >= 5); /* both kinds ran */
+
+    /* one repeat among distinct random sites: of the first site, of a
+     * site inside, of the hull's lowest vertex, placed first or last */
+    size_t n = 2000;
+    for (size_t k = 0; k < 2 * n; k++) xy[k] = vt_unit(&r);
+    size_t low = 0;
+    for (size_t k = 1; k < n; k++)
+        if (xy[2 * k + 1] < xy[2 * low + 1]) low = k;
+    assert_false(has_repeat(xy, n));
+    const size_t copied[] = {0, n / 2, low};
+    for (size_t c = 0; c < 3; c++) {
+        xy[2 * n] = xy[2 * copied[c]];
+        xy[2 * n + 1] = xy[2 * copied[c] + 1];
+        compute_by_hand(xy, n + 1, 1);
+        /* the copy first instead: swap it with site 1 */
+        double t0 = xy[2], t1 = xy[3];
+        xy[2] = xy[2 * n];
+        xy[3] = xy[2 * n + 1];
+        xy[2 * n] = t0;
+        xy[2 * n + 1] = t1;
+        compute_by_hand(xy, n + 1, 1);
+        xy[2 * n] = xy[2];
+        xy[2 * n + 1] = xy[3];
+        xy[2] = t0;
+        xy[3] = t1;
+    }
+
+    /* on a line (the degenerate diagram), and a signed zero's twin */
+    const double line[] = {0, 0, 1, 1, 2, 2, 1, 1, 3, 3};
+    compute_by_hand(line, 5, 1);
+    const double zeros[] = {0.0, 0.0, 1, 0, 0, 1, -0.0, -0.0};
+    compute_by_hand(zeros, 4, 1);
+    compute_by_hand(zeros, 3, 0);
+    free(xy);
+}
+
 /* Every standard set, against the sort-based oracle. */
 static void test_standard_sets(void **state) {
     (void)state;
@@ -318,6 +409,7 @@ int main(void) {
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_bad_arguments),
         cmocka_unit_test(test_random_brute),
+        cmocka_unit_test(test_repeats_by_hand),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_large),
     };
