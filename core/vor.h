@@ -153,8 +153,9 @@ typedef struct vor_diagram {
 /* Computes the canonical Voronoi diagram of the sites with the chosen
  * algorithm. On success *out is a new diagram (free with vor_diagram_free).
  * On error *out is NULL and nothing leaks. Sites are borrowed. The sites
- * must be distinct, as vor_sites_new makes them; a vor_sites filled by
- * hand that repeats a point gets VOR_EINVAL. */
+ * must be finite and distinct, as vor_sites_new makes them; a vor_sites
+ * filled by hand gets VOR_ENONFINITE for an infinite or NaN coordinate
+ * and VOR_EINVAL for a repeated point. */
 vor_status vor_compute(const vor_sites *sites, vor_algorithm algorithm,
                        vor_diagram **out);
 void vor_diagram_free(vor_diagram *d);

@@ -258,7 +258,8 @@ static void test_random_brute(void **state) {
 
 /* vor_compute with a vor_sites filled by hand that repeats a site: every
  * algorithm answers VOR_EINVAL with no diagram, where the sweep had
- * corrupted its heap and flip's walk cycled. Sets of small integer
+ * corrupted its heap and flip's walk cycled; one with an infinity or a
+ * NaN, VOR_ENONFINITE, where all three had answered VOR_OK. Sets of small integer
  * coordinates (many repeats), sets with one repeat of a hull vertex, of
  * an inner site and of the first site, on a line, and signed zeros; sets
  * that happen to repeat nothing must compute. */
@@ -292,7 +293,7 @@ static int has_repeat(const double *xy, size_t n) {
     return r;
 }
 
-static void test_repeats_by_hand(void **state) {
+static void test_by_hand(void **state) {
     (void)state;
     vt_rng r = {seed};
     static const size_t sizes[] = {3, 4, 5, 20, 100, 1000, 5000};
@@ -336,6 +337,34 @@ static void test_repeats_by_hand(void **state) {
         xy[2 * n + 1] = xy[3];
         xy[2] = t0;
         xy[3] = t1;
+    }
+
+    /* an infinity or a NaN, in x or in y, first, inside or last, among
+     * distinct sites or on a line: VOR_ENONFINITE, not a diagram */
+    const double odd[] = {INFINITY, -INFINITY, NAN};
+    for (size_t o = 0; o < 3; o++)
+        for (size_t at = 0; at < 2 * 5; at += 3) {
+            double few[10] = {0, 0, 1, 0, 0, 1, 1, 1, 2, 3};
+            double line[10] = {0, 0, 1, 1, 2, 2, 3, 3, 4, 4};
+            few[at] = line[at] = odd[o];
+            vor_sites fs = {5, 5, few, NULL, NULL}, ls = {5, 5, line, NULL, NULL};
+            for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+                vor_diagram *d = (vor_diagram *)&d;
+                assert_int_equal(vor_compute(&fs, (vor_algorithm)a, &d),
+                                 VOR_ENONFINITE);
+                assert_null(d);
+                assert_int_equal(vor_compute(&ls, (vor_algorithm)a, &d),
+                                 VOR_ENONFINITE);
+                assert_null(d);
+            }
+        }
+    xy[2 * 1000 + 1] = NAN;
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        vor_sites big = {n, n, xy, NULL, NULL};
+        vor_diagram *d = (vor_diagram *)&d;
+        assert_int_equal(vor_compute(&big, (vor_algorithm)a, &d),
+                         VOR_ENONFINITE);
+        assert_null(d);
     }
 
     /* on a line (the degenerate diagram), and a signed zero's twin */
@@ -409,7 +438,7 @@ int main(void) {
         cmocka_unit_test(test_nonfinite),
         cmocka_unit_test(test_bad_arguments),
         cmocka_unit_test(test_random_brute),
-        cmocka_unit_test(test_repeats_by_hand),
+        cmocka_unit_test(test_by_hand),
         cmocka_unit_test(test_standard_sets),
         cmocka_unit_test(test_large),
     };
