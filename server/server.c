@@ -27,6 +27,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -106,6 +107,24 @@ static void copy_path(char *dst, size_t size, const char *url) {
     dst[n] = '\0';
 }
 
+/* A request target in absolute form, "http://host/path" (RFC 9112,
+ * 3.2.2: a server must accept it, though clients send it only to
+ * proxies), from the path on: "/voronoi" serves as for the origin form,
+ * and a target with no path is "/" (its query, if any, kept after it by
+ * the caller's copy). Any other target is returned as it is. */
+static const char *origin_form(const char *url) {
+    const char *p;
+    if (url == NULL) return NULL;
+    if (strncasecmp(url, "http://", 7) == 0)
+        p = url + 7;
+    else if (strncasecmp(url, "https://", 8) == 0)
+        p = url + 8;
+    else
+        return url;
+    p += strcspn(p, "/?#");
+    return *p == '/' ? p : "/";
+}
+
 /* libmicrohttpd's URI log callback, called once the request line is in
  * (before the headers): the request's state begins here, so that every
  * request whose line arrived ends in on_completed with a log line, also
@@ -125,6 +144,7 @@ static void *on_uri(void *cls, const char *uri, struct MHD_Connection *conn) {
     q->points = -1;
     q->route = SRV_ROUTE_OTHER;
     size_t n = uri != NULL ? strlen(uri) : 0;
+    uri = origin_form(uri);
     size_t path_len = uri != NULL ? strcspn(uri, "?") : 0;
     copy_path(q->path, sizeof q->path, uri);
     if (path_len < sizeof q->path) q->path[path_len] = '\0';
@@ -156,7 +176,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn,
     if (!q->started) {
         q->started = 1;
         srv__printable(q->method_name, sizeof q->method_name, method, 8);
-        copy_path(q->path, sizeof q->path, url);
+        copy_path(q->path, sizeof q->path, origin_form(url));
         q->method = srv_method_bit(method);
         srv__collect_headers(conn, &q->h);
         make_request_id(q);

@@ -12,7 +12,9 @@
  *     bounded amount of work, the daemon still well;
  *   - lingering close: a client that sends a whole over-limit body before
  *     reading (as Python's http.client does) still reads the 413;
- *   - a chunked body over --max-body -> 413 once it ends.
+ *   - a chunked body over --max-body -> 413 once it ends;
+ *   - a target in absolute form ("http://host/voronoi") served as its
+ *     path.
  * Every answer is checked to be exactly one response. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -121,6 +123,61 @@ static void test_transfer_encoding_and_length(void **state) {
     expect_one("cl-same", buf, 200, NULL);
     assert_non_null(strstr(buf, "\"n_vertices\":4"));
     free(buf);
+}
+
+/* A request target in absolute form (RFC 9112, 3.2.2, which a server
+ * must accept): served as its path, the same answer as the origin form;
+ * no path is "/"; a path the service lacks is still a 404. */
+static void test_absolute_form(void **state) {
+    (void)state;
+    char req[1024];
+    static const char *const targets[] = {
+        "/voronoi", "http://x/voronoi", "HTTP://x:8080/voronoi",
+        "https://[::1]:443/voronoi?format=json"};
+    char *first = NULL;
+    for (size_t i = 0; i < sizeof targets / sizeof targets[0]; i++) {
+        int n = snprintf(req, sizeof req,
+                         "POST %s HTTP/1.1\r\nHost: x\r\nContent-Length: "
+                         "%zu\r\nConnection: close\r\n\r\n%s",
+                         targets[i], strlen(square), square);
+        char *buf = exchange(req, (size_t)n, NULL);
+        expect_one(targets[i], buf, 200, NULL);
+        /* the diagram: the body up to its timings, which vary */
+        char *body = strstr(buf, "\r\n\r\n");
+        char *timings = strstr(body, "\"timings\"");
+        assert_non_null(timings);
+        *timings = '\0';
+        assert_non_null(strstr(body, "\"n_vertices\":4"));
+        if (first == NULL) {
+            first = strdup(body);
+        } else if (strcmp(first, body) != 0) {
+            fail_msg("%s: another answer than /voronoi's: %.300s", targets[i],
+                     body);
+        }
+        free(buf);
+    }
+    free(first);
+    static const struct {
+        const char *req;
+        int status;
+    } others[] = {
+        {"GET http://x HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n",
+         200},
+        {"GET http://x/healthz HTTP/1.1\r\nHost: x\r\nConnection: "
+         "close\r\n\r\n", 200},
+        {"GET http://x/nowhere HTTP/1.1\r\nHost: x\r\nConnection: "
+         "close\r\n\r\n", 404},
+        {"GET http:/healthz HTTP/1.1\r\nHost: x\r\nConnection: "
+         "close\r\n\r\n", 404},
+    };
+    for (size_t i = 0; i < sizeof others / sizeof others[0]; i++) {
+        char *buf = exchange(others[i].req, strlen(others[i].req), NULL);
+        if (it_raw_status(buf) != others[i].status)
+            fail_msg("%.40s: status %d, expected %d", others[i].req,
+                     it_raw_status(buf), others[i].status);
+        assert_int_equal(responses(buf), 1);
+        free(buf);
+    }
 }
 
 static void test_long_request_lines_and_heads(void **state) {
@@ -341,6 +398,7 @@ static void test_lingering_close(void **state) {
 int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_transfer_encoding_and_length),
+        cmocka_unit_test(test_absolute_form),
         cmocka_unit_test(test_long_request_lines_and_heads),
         cmocka_unit_test(test_content_encoding),
         cmocka_unit_test(test_gzip_bomb),
