@@ -609,6 +609,17 @@ enum MHD_Result srv__start_compute(srv_req *q, struct MHD_Connection *conn) {
         return srv__send_problem(q, conn, API_MALFORMED, NULL, 0,
                                  "more than %d query parameters",
                                  SRV_MAX_OPTIONS);
+    /* a parameter given twice is refused, as a key repeated in the body
+     * is (the body's parser refuses duplicates) */
+    for (size_t i = 1; i < opts.n; i++)
+        for (size_t k = 0; k < i; k++)
+            if (strcmp(opts.key[i], opts.key[k]) == 0) {
+                char name[72];
+                srv__printable(name, sizeof name, opts.key[i], 64);
+                return srv__send_problem(q, conn, API_MALFORMED, NULL, 0,
+                                         "query parameter \"%s\" given "
+                                         "twice", name);
+            }
     const char *accept = q->h.accept;
     api_request scratch;
     api_request_init(&scratch);
