@@ -6,8 +6,10 @@
  * huge or tiny power of ten, or raw doubles (non-finite ones must be refused
  * with VOR_ENONFINITE, nothing else). Every algorithm must return VOR_OK, pass
  * vor_check and give the bit-identical diagram; the clip of a box around the
- * sites must succeed. Any violation aborts, which libFuzzer reports with the
- * input that caused it. */
+ * sites must succeed. The same points filled into a vor_sites by hand,
+ * repeats and all, must be refused or give that diagram (by_hand). Any
+ * violation aborts, which libFuzzer reports with the input that caused
+ * it. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -62,6 +64,37 @@ static size_t make_points(const uint8_t *data, size_t size, double *xy) {
     return n;
 }
 
+/* The raw points as a vor_sites filled by hand, repeats and non-finite
+ * values kept (vor_compute's contract asks for neither): every algorithm
+ * answers VOR_ENONFINITE if a coordinate is not finite, else VOR_EINVAL
+ * if a point repeats, else the diagram it gives through vor_sites_new
+ * (bit for bit where no coordinate is -0.0, which vor_sites_new stores
+ * as 0.0), and never a diagram with an error. */
+static void by_hand(const double *xy, size_t n, vor_status made,
+                    const vor_sites *sites, vor_diagram *const *d) {
+    uint32_t ident[96];
+    int minus_zero = 0;
+    for (size_t i = 0; i < n; i++) ident[i] = (uint32_t)i;
+    for (size_t i = 0; i < 2 * n; i++)
+        minus_zero |= xy[i] == 0 && signbit(xy[i]);
+    vor_sites hand = {n, n, (double *)xy, ident, ident};
+    for (int a = 0; a < VOR_ALGORITHM_COUNT; a++) {
+        vor_diagram *h = NULL;
+        vor_status st = vor_compute(&hand, (vor_algorithm)a, &h);
+        vor_status want = made == VOR_ENONFINITE ? VOR_ENONFINITE
+                          : sites->n < n         ? VOR_EINVAL
+                                                 : VOR_OK;
+        if (st != want) fail("by hand", vor_status_message(st));
+        if (st != VOR_OK) {
+            if (h != NULL) fail("by hand", "a diagram with an error");
+            continue;
+        }
+        if (!minus_zero && !vor_diagram_equal(h, d[a]))
+            fail("by hand", "differs from the diagram of vor_sites_new");
+        vor_diagram_free(h);
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     double xy[2 * 96];
     size_t n = make_points(data, size, xy);
@@ -71,6 +104,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (st == VOR_ENONFINITE) {
         if (bad >= n || (isfinite(xy[2 * bad]) && isfinite(xy[2 * bad + 1])))
             fail("sites", "wrong index for a non-finite coordinate");
+        by_hand(xy, n, st, NULL, NULL);
         return 0;
     }
     if (st != VOR_OK) fail("sites", vor_status_message(st));
@@ -85,6 +119,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (a > 0 && !vor_diagram_equal(d[0], d[a]))
             fail(vor_algorithm_name(a), "differs from fortune");
     }
+    by_hand(xy, n, st, sites, d);
 
     if (sites->n > 0) {
         double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
