@@ -374,13 +374,20 @@ static size_t emit_ring(const double *box, double sc, const hpt *poly,
 
 /* The cell pass reads each cell's edges' ends and their vertices, at
  * random: fetched ahead in two steps, as the records of the conversion
- * are (mesh_dual.c). */
-static inline void prefetch_cells(const vor_diagram *d, uint32_t i,
-                                  size_t n) {
+ * are (mesh_dual.c); for an unbounded cell, the numbers of its two rays
+ * too (every cell of sites in convex position). Fetching the rays'
+ * directions as well, a step later, made uniform sites 70% slower. */
+static inline void prefetch_cells(const vor_diagram *d, const size_t *ray_of,
+                                  uint32_t i, size_t n) {
     if (i + CELL_AHEAD < n) {
-        for (uint32_t t = d->cell_start[i + CELL_AHEAD];
-             t < d->cell_start[i + CELL_AHEAD + 1]; t++)
+        const uint32_t a = d->cell_start[i + CELL_AHEAD],
+                       b = d->cell_start[i + CELL_AHEAD + 1];
+        for (uint32_t t = a; t < b; t++)
             __builtin_prefetch(d->edge_ends + 2 * (size_t)d->cell_edges[t]);
+        if (!d->cell_bounded[i + CELL_AHEAD]) { /* its rays' numbers */
+            __builtin_prefetch(ray_of + d->cell_edges[a]);
+            __builtin_prefetch(ray_of + d->cell_edges[b - 1]);
+        }
     }
     if (i + CELL_AHEAD / 2 < n) {
         for (uint32_t t = d->cell_start[i + CELL_AHEAD / 2];
@@ -447,7 +454,7 @@ vor_status vor_clip(const vor_diagram *d, const vor_sites *sites,
         ldexp(1.0, -ilogb(fmax(box[2] - box[0], box[3] - box[1])));
     size_t used = 0;
     for (uint32_t i = 0; i < n; i++) {
-        if (nv > 0) prefetch_cells(d, i, n);
+        if (nv > 0) prefetch_cells(d, ray_of, i, n);
         c->poly_start[i] = (uint32_t)used;
         hpt *res = buf_a;
         size_t m;
