@@ -79,8 +79,10 @@ static void usage(void) {
         "       bench_algo shapes\n"
         "       bench_algo json   --dist D --n N [--seed S] [--algo A] --out FILE\n"
         "       bench_algo ours   --algo A --points FILE [--runs R]\n"
-        "                         [--budget-ms B] [--tris FILE]\n"
-        "                         (R runs, fewer if they overrun B)\n"
+        "                         [--budget-ms B] [--tris FILE] [--clip 1]\n"
+        "                         (R runs, fewer if they overrun B; --clip 1\n"
+        "                         also times vor_clip of the diagram to the\n"
+        "                         sites' bounding box grown by a tenth, R runs)\n"
         "       bench_algo check  --points FILE --tris FILE\n"
         "       bench_algo warmth [--algos a,b] --dist D --ns 500,1000\n"
         "                         [--runs R] [--seed S] --csv FILE\n"
@@ -99,6 +101,7 @@ typedef struct opts {
     double budget_ms;
     int budget_set; /* --budget-ms was given */
     int runs, limit_s, total_s;
+    int clip; /* ours: also time vor_clip (--clip 1) */
 } opts;
 
 static int parse_opts(int argc, char **argv, opts *o) {
@@ -141,6 +144,7 @@ static int parse_opts(int argc, char **argv, opts *o) {
         else if (!strcmp(k, "--runs")) o->runs = atoi(v);
         else if (!strcmp(k, "--limit-s")) o->limit_s = atoi(v);
         else if (!strcmp(k, "--total-s")) o->total_s = atoi(v);
+        else if (!strcmp(k, "--clip")) o->clip = atoi(v);
         else {
             fprintf(stderr, "unknown option %s\n", k);
             return -1;
@@ -627,6 +631,42 @@ static int cmd_points(const opts *o, int json) {
 
 /* ---- ours --------------------------------------------------------------------- */
 
+/* --clip 1: vor_clip of diagram d to the sites' bounding box grown by a
+ * tenth of its size on every side (the box GeoJSON answers are clipped to
+ * by default), runs times; prints clip_ms (median) and clip_min_ms. */
+static vor_status time_clip(const vor_diagram *d, const vor_sites *s,
+                            int runs) {
+    double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < s->n; i++) {
+        const double *p = s->xy + 2 * i;
+        box[0] = p[0] < box[0] ? p[0] : box[0];
+        box[1] = p[1] < box[1] ? p[1] : box[1];
+        box[2] = p[0] > box[2] ? p[0] : box[2];
+        box[3] = p[1] > box[3] ? p[1] : box[3];
+    }
+    double gx = (box[2] - box[0]) / 10, gy = (box[3] - box[1]) / 10;
+    box[0] -= gx;
+    box[1] -= gy;
+    box[2] += gx;
+    box[3] += gy;
+    double ms[64];
+    if (runs < 1) runs = 1;
+    if (runs > 64) runs = 64;
+    for (int k = 0; k < runs; k++) {
+        vor_clipped *c = NULL;
+        uint64_t t0 = bu_now_ns();
+        vor_status st = vor_clip(d, s, box, &c);
+        ms[k] = (double)(bu_now_ns() - t0) / 1e6;
+        vor_clipped_free(c);
+        if (st != VOR_OK) return st;
+    }
+    double least = ms[0];
+    for (int k = 1; k < runs; k++) least = ms[k] < least ? ms[k] : least;
+    printf(" clip_ms=%.3f clip_min_ms=%.3f", bu_median(ms, (size_t)runs),
+           least);
+    return VOR_OK;
+}
+
 static int cmd_ours(const opts *o) {
     vor_algorithm algo;
     size_t n = 0;
@@ -673,6 +713,7 @@ static int cmd_ours(const opts *o) {
            o->algo, n, r.median_ms, r.min_ms, r.runs,
            r.peak_bytes >= 0 ? r.peak_bytes / (double)n : -1.0,
            r.first_sys_ms, r.vertices, nt, sites->n);
+    if (st == VOR_OK && o->clip) st = time_clip(d, sites, o->runs);
     /* the operation counts of the first run, those of this algorithm */
     for (size_t i = 0; i < VOR_COUNT_FIELDS; i++)
         if (vor_count_algorithms(i) & (1u << algo))
