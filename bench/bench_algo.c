@@ -62,6 +62,7 @@
 
 #include "../core/internal.h"
 #include "../core/vor.h"
+#include "../api/codec.h"
 #include "../tests/support/testsets.h"
 #include "bench_shapes.h"
 #include "bench_util.h"
@@ -82,7 +83,7 @@ static void usage(void) {
         "                         [--budget-ms B] [--tris FILE] [--clip 1]\n"
         "                         (R runs, fewer if they overrun B; --clip 1\n"
         "                         also times vor_clip of the diagram to the\n"
-        "                         sites' bounding box grown by a tenth, R runs)\n"
+        "                         GeoJSON answers' default box, R runs)\n"
         "       bench_algo check  --points FILE --tris FILE\n"
         "       bench_algo warmth [--algos a,b] --dist D --ns 500,1000\n"
         "                         [--runs R] [--seed S] --csv FILE\n"
@@ -631,24 +632,13 @@ static int cmd_points(const opts *o, int json) {
 
 /* ---- ours --------------------------------------------------------------------- */
 
-/* --clip 1: vor_clip of diagram d to the sites' bounding box grown by a
- * tenth of its size on every side (the box GeoJSON answers are clipped to
- * by default), runs times; prints clip_ms (median) and clip_min_ms. */
+/* --clip 1: vor_clip of diagram d to the box GeoJSON answers are clipped
+ * to when no bounds are given (api__default_box), runs times; prints
+ * clip_ms (median) and clip_min_ms. */
 static vor_status time_clip(const vor_diagram *d, const vor_sites *s,
                             int runs) {
-    double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < s->n; i++) {
-        const double *p = s->xy + 2 * i;
-        box[0] = p[0] < box[0] ? p[0] : box[0];
-        box[1] = p[1] < box[1] ? p[1] : box[1];
-        box[2] = p[0] > box[2] ? p[0] : box[2];
-        box[3] = p[1] > box[3] ? p[1] : box[3];
-    }
-    double gx = (box[2] - box[0]) / 10, gy = (box[3] - box[1]) / 10;
-    box[0] -= gx;
-    box[1] -= gy;
-    box[2] += gx;
-    box[3] += gy;
+    double box[4];
+    api__default_box(s, box);
     double ms[64];
     if (runs < 1) runs = 1;
     if (runs > 64) runs = 64;
