@@ -3,7 +3,9 @@
  * Exact paths first, then the /problems/ prefix, then the asset catch-all
  * (any path the asset store knows, for GET and HEAD). A path that exists with another method gives
  * 405 and the Allow list; OPTIONS is allowed wherever the path exists
- * (CORS preflight). Linear in the number of routes; no allocation.
+ * (CORS preflight), and on "*", the server as a whole (RFC 9110, 9.3.7),
+ * whose Allow lists every method some path takes. Linear in the number
+ * of routes; no allocation.
  */
 #include "routes.h"
 
@@ -31,7 +33,8 @@ const char *srv_route_name(srv_route r) {
     return (unsigned)r < SRV_ROUTE_COUNT ? table[r].path : "other";
 }
 
-void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
+/* The Allow list of the methods in m, OPTIONS always last. */
+static void copy_allow(char *allow, size_t allow_size, unsigned m) {
     static const struct {
         unsigned bit;
         const char *name;
@@ -43,7 +46,6 @@ void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
     char list[32];
     size_t len = 0;
     if (allow_size == 0) return;
-    unsigned m = (unsigned)r < SRV_ROUTE_COUNT ? table[r].methods : 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         if (m & names[i].bit) {
             size_t k = strlen(names[i].name);
@@ -59,6 +61,11 @@ void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
     allow[len] = '\0';
 }
 
+void srv_route_allow(srv_route r, char *allow, size_t allow_size) {
+    copy_allow(allow, allow_size,
+               (unsigned)r < SRV_ROUTE_COUNT ? table[r].methods : 0);
+}
+
 srv_match srv_route_match(const char *method, const char *path,
                           int (*has_asset)(const char *path, void *ctx),
                           void *ctx, srv_route *route, char *allow,
@@ -66,6 +73,11 @@ srv_match srv_route_match(const char *method, const char *path,
     unsigned bit = srv_method_bit(method);
     srv_route found = SRV_ROUTE_OTHER;
     if (allow_size > 0) allow[0] = '\0';
+    if (bit == SRV_M_OPTIONS && path != NULL && strcmp(path, "*") == 0) {
+        *route = SRV_ROUTE_OTHER;
+        copy_allow(allow, allow_size, SRV_M_GET | SRV_M_HEAD | SRV_M_POST);
+        return SRV_MATCH_OK;
+    }
     for (int r = 0; r < SRV_ROUTE_COUNT; r++) {
         if (r == SRV_ROUTE_ASSET || r == SRV_ROUTE_OTHER) continue;
         if (path != NULL && strcmp(path, table[r].path) == 0) {

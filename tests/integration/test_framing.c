@@ -180,6 +180,20 @@ static void test_absolute_form(void **state) {
     }
 }
 
+/* "OPTIONS *" (RFC 9112, 3.2.4: the asterisk form) asks about the
+ * server as a whole: 204 with every method the service takes. */
+static void test_options_asterisk(void **state) {
+    (void)state;
+    static const char req[] =
+        "OPTIONS * HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+    char *buf = exchange(req, sizeof req - 1, NULL);
+    if (it_raw_status(buf) != 204)
+        fail_msg("OPTIONS *: status %d: %.300s", it_raw_status(buf), buf);
+    assert_int_equal(responses(buf), 1);
+    assert_non_null(strstr(buf, "\r\nAllow: GET, HEAD, POST, OPTIONS\r\n"));
+    free(buf);
+}
+
 static void test_long_request_lines_and_heads(void **state) {
     (void)state;
     /* Up to 16,381 bytes (the line and its CRLF within libmicrohttpd's
@@ -399,6 +413,7 @@ int main(void) {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_transfer_encoding_and_length),
         cmocka_unit_test(test_absolute_form),
+        cmocka_unit_test(test_options_asterisk),
         cmocka_unit_test(test_long_request_lines_and_heads),
         cmocka_unit_test(test_content_encoding),
         cmocka_unit_test(test_gzip_bomb),

@@ -1,5 +1,6 @@
 /* test_routes.c -- the route table: exact paths, the asset catch-all,
- * 404 and 405 with the Allow list, OPTIONS on every existing path. */
+ * 404 and 405 with the Allow list, OPTIONS on every existing path and
+ * on "*", the server as a whole. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -95,6 +96,22 @@ static void test_method_not_allowed_lists_allow(void **state) {
     }
 }
 
+/* "OPTIONS *" asks about the server: every method some path takes. "*"
+ * is no path for any other method. */
+static void test_options_asterisk(void **state) {
+    (void)state;
+    srv_route r = SRV_ROUTE_VORONOI;
+    char allow[48];
+    assert_int_equal(m("OPTIONS", "*", &r, allow), SRV_MATCH_OK);
+    assert_int_equal(r, SRV_ROUTE_OTHER);
+    assert_string_equal(allow, "GET, HEAD, POST, OPTIONS");
+    const char *others[] = {"GET", "HEAD", "POST", "PUT", NULL};
+    for (int i = 0; others[i]; i++)
+        if (m(others[i], "*", &r, allow) != SRV_MATCH_NOT_FOUND)
+            fail_msg("%s *: not a 404", others[i]);
+    assert_int_equal(m("OPTIONS", "*x", &r, allow), SRV_MATCH_NOT_FOUND);
+}
+
 static void test_names_and_methods(void **state) {
     (void)state;
     assert_string_equal(srv_route_name(SRV_ROUTE_VORONOI), "/voronoi");
@@ -113,6 +130,7 @@ int main(void) {
         cmocka_unit_test(test_exact_routes),
         cmocka_unit_test(test_not_found),
         cmocka_unit_test(test_method_not_allowed_lists_allow),
+        cmocka_unit_test(test_options_asterisk),
         cmocka_unit_test(test_names_and_methods),
     };
     return cmocka_run_group_tests_name("server/routes", tests, NULL, NULL);
