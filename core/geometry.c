@@ -46,6 +46,14 @@
 _Static_assert(LDBL_MAX_EXP >= 4096 && LDBL_MIN_EXP <= -4096,
                "geometry.c needs a long double with a wide exponent range");
 
+/* The squared length of (x, y): with the wide exponent no difference of
+ * two doubles overflows or underflows when squared, so, unlike hypotl,
+ * nothing needs scaling (hypotl was a third of a run on sites near a
+ * line, where most triangles take the long double path). */
+static long double len2(long double x, long double y) {
+    return x * x + y * y;
+}
+
 /* The same formula in long double, from the original coordinates, with
  * the determinant computed exactly and then rounded (so that a very flat
  * triangle, whose rounded determinant may be 0 or of the wrong size, still
@@ -60,9 +68,9 @@ static void circumcenter_long(const double *a, const double *b,
      * would round away the short side, and the centre with it (it came
      * out at the far site itself). A turn of the corners keeps the
      * orientation, and so the exact determinant. */
-    long double ab = hypotl((long double)b[0] - a[0], (long double)b[1] - a[1]);
-    long double bc = hypotl((long double)c[0] - b[0], (long double)c[1] - b[1]);
-    long double ca = hypotl((long double)a[0] - c[0], (long double)a[1] - c[1]);
+    long double ab = len2((long double)b[0] - a[0], (long double)b[1] - a[1]);
+    long double bc = len2((long double)c[0] - b[0], (long double)c[1] - b[1]);
+    long double ca = len2((long double)a[0] - c[0], (long double)a[1] - c[1]);
     if (bc < ab && bc < ca) {
         const double *t = a;
         a = b;

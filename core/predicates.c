@@ -588,9 +588,18 @@ long double vor__orient2d_value(const double *a, const double *b,
     }
     const double *pts[3] = {a, b, c};
     double w[6];
-    int s = -hi; /* always rescale: the value is returned unscaled below */
-    rescale(pts, 3, s, w);
-    const double *sa = w, *sb = w + 2, *sc = w + 4;
+    /* scaled (exactly, by a power of two) only where the products could
+     * overflow or lose bits to underflow: the scale and its undoing were
+     * a tenth of a run on sites near a line, whose flat triangles all come
+     * here (vor_circumcenter) */
+    int s = choose_scale(hi, lo, 2);
+    const double *sa = a, *sb = b, *sc = c;
+    if (s) {
+        rescale(pts, 3, s, w);
+        sa = w;
+        sb = w + 2;
+        sc = w + 4;
+    }
     double det[16];
     int nd = orient2d_expansion(sa, sb, sc, det);
     /* smallest first: the long double sum of a non-overlapping expansion
@@ -598,7 +607,7 @@ long double vor__orient2d_value(const double *a, const double *b,
     long double sum = 0;
     for (int i = 0; i < nd; i++)
         sum += det[i];
-    return ldexpl(sum, -2 * s);
+    return s ? ldexpl(sum, -2 * s) : sum;
 }
 
 /* Adds one incircle row, lift(p) * (qx ry - rx qy), where p, q, r are
