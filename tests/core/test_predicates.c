@@ -730,7 +730,8 @@ static void test_exact_constructions(void **state) {
 
 /* vor__orient2d_value against the rational determinant: relative error
  * below 2^-62, zero exactly when collinear, on ordinary, near-collinear
- * and wide-range input. */
+ * and wide-range input, and on sites close beside their magnitude (exact
+ * differences: the four-term path), nearly on a line or exactly on it. */
 static void test_orient_value(void **state) {
     (void)state;
     mpq_t ax, ay, bx, by, cx, cy, l, r, got, err;
@@ -744,6 +745,16 @@ static void test_orient_value(void **state) {
         if (k % 4 == 1) /* near-collinear */
             for (int j = 0; j < 2; j++)
                 p[2][j] = p[0][j] + 0.375 * (p[1][j] - p[0][j]);
+        if (k % 4 == 3) { /* close together, on or near a line */
+            double o[2] = {rng_sym() * 1e3, rng_sym() * 1e3};
+            double dx = rng_sym(), dy = rng_sym();
+            int lsb = rng_int(8); /* 0: exactly collinear */
+            for (int i = 0; i < 3; i++) {
+                double t = (double)(rng_int(2001) - 1000) / 1024;
+                p[i][0] = o[0] + t * dx;
+                p[i][1] = o[1] + t * dy + (lsb ? ldexp(rng_sym(), -30 - 3 * lsb) : 0);
+            }
+        }
         long double v = vor__orient2d_value(p[0], p[1], p[2]);
         mpq_set_d(ax, p[0][0]);
         mpq_set_d(ay, p[0][1]);
