@@ -525,6 +525,41 @@ static int orient2d_expansion(const double *a, const double *b,
     return exp_sum(nl, l, nr, r, det);
 }
 
+/* The determinant of a flat triangle whose differences are exact (its
+ * sites close beside their magnitude, as along a curve): the difference of
+ * two exact products, each a double and its rounding error (two_prod), so
+ * four terms, summed in long double with an error of at most 2^-64 of
+ * each of the three partial sums. 1 with the value in *out when those do
+ * not cancel, so that the error is below 2^-62 of the value (as the
+ * expansion's sum below), else 0. Inlined into its callers, whose FMA
+ * clones then make two_prod's fma an instruction, not a call. */
+static inline __attribute__((always_inline)) int
+orient2d_value_quick(const double *a, const double *b, const double *c,
+                     long double *out) {
+    double acx, acy, bcx, bcy, e0, e1, e2, e3;
+    two_diff(a[0], c[0], &acx, &e0);
+    two_diff(a[1], c[1], &acy, &e1);
+    two_diff(b[0], c[0], &bcx, &e2);
+    two_diff(b[1], c[1], &bcy, &e3);
+    if (e0 != 0 || e1 != 0 || e2 != 0 || e3 != 0) return 0;
+    double l, le, r, re;
+    two_prod(acx, bcy, &l, &le);
+    two_prod(acy, bcx, &r, &re);
+    /* two_prod's error is exact for products in [2^-960, DBL_MAX]; a
+     * product below (0 included) may have lost bits, unless a factor
+     * is 0 */
+    double al = fabs(l), ar = fabs(r);
+    if (!(al <= DBL_MAX && ar <= DBL_MAX)) return 0;
+    if ((al < 0x1p-960 && acx != 0 && bcy != 0) ||
+        (ar < 0x1p-960 && acy != 0 && bcx != 0))
+        return 0;
+    long double hi = (long double)l - r, lo = (long double)le - re;
+    long double sum = hi + lo;
+    if (!(fabsl(hi) + fabsl(lo) <= 2.5L * fabsl(sum))) return 0;
+    *out = sum;
+    return 1;
+}
+
 VOR__FMA_CLONES
 int vor__orient2d_exact(const double *a, const double *b, const double *c) {
     /* Products with an exactly zero factor (axis-parallel, shared points)
@@ -540,6 +575,11 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
         return ((acy > 0) == (bcx > 0)) ? -1 : 1;
     if (rzero)
         return ((acx > 0) == (bcy > 0)) ? 1 : -1;
+    /* Sites exactly on a line through sites close beside their magnitude
+     * (collinear input): the four-term value is exactly 0 there, and its
+     * sign is right whenever it is taken. */
+    long double quick;
+    if (orient2d_value_quick(a, b, c, &quick)) return (quick > 0) - (quick < 0);
 
     double v[6] = {a[0], a[1], b[0], b[1], c[0], c[1]};
     int hi, lo;
@@ -574,39 +614,6 @@ int vor__orient2d_exact(const double *a, const double *b, const double *c) {
 
     double det[16];
     return exp_sign(orient2d_expansion(sa, sb, sc, det), det);
-}
-
-/* The determinant of a flat triangle whose differences are exact (its
- * sites close beside their magnitude, as along a curve): the difference of
- * two exact products, each a double and its rounding error (two_prod), so
- * four terms, summed in long double with an error of at most 2^-64 of
- * each of the three partial sums. 1 with the value in *out when those do
- * not cancel, so that the error is below 2^-62 of the value (as the
- * expansion's sum below), else 0. */
-static int orient2d_value_quick(const double *a, const double *b,
-                                const double *c, long double *out) {
-    double acx, acy, bcx, bcy, e0, e1, e2, e3;
-    two_diff(a[0], c[0], &acx, &e0);
-    two_diff(a[1], c[1], &acy, &e1);
-    two_diff(b[0], c[0], &bcx, &e2);
-    two_diff(b[1], c[1], &bcy, &e3);
-    if (e0 != 0 || e1 != 0 || e2 != 0 || e3 != 0) return 0;
-    double l, le, r, re;
-    two_prod(acx, bcy, &l, &le);
-    two_prod(acy, bcx, &r, &re);
-    /* two_prod's error is exact for products in [2^-960, DBL_MAX]; a
-     * product below (0 included) may have lost bits, unless a factor
-     * is 0 */
-    double al = fabs(l), ar = fabs(r);
-    if (!(al <= DBL_MAX && ar <= DBL_MAX)) return 0;
-    if ((al < 0x1p-960 && acx != 0 && bcy != 0) ||
-        (ar < 0x1p-960 && acy != 0 && bcx != 0))
-        return 0;
-    long double hi = (long double)l - r, lo = (long double)le - re;
-    long double sum = hi + lo;
-    if (!(fabsl(hi) + fabsl(lo) <= 2.5L * fabsl(sum))) return 0;
-    *out = sum;
-    return 1;
 }
 
 VOR__FMA_CLONES
