@@ -30,6 +30,10 @@
  *                   each an eighth of its parent's size
  *   duplicates      1000 distinct uniform points, each repeated
  *   near-line       (u, 10^-9 v)
+ *   geometric-line  x = e^(10 i / n), y = 2x + 10^-9 u: a line sampled at
+ *                   geometric steps (every triangle flat, four decades)
+ *   line-and-apex   n - 1 sites exactly on y = x / 2 (x a half-integer
+ *                   step, shuffled) and one off it
  *   mixed-exponents u 2^k on each axis, k uniform in [-500, 500)
  *   time-series     (i, random walk)
  *
@@ -289,6 +293,31 @@ static void bs_near_line(vt_rng *r, double *xy, size_t n) {
     }
 }
 
+static void bs_geometric_line(vt_rng *r, double *xy, size_t n) {
+    for (size_t i = 0; i < n; i++) {
+        double x = exp(10.0 * (double)i / (double)n);
+        xy[2 * i] = x;
+        xy[2 * i + 1] = 2 * x + 1e-9 * vt_unit(r);
+    }
+}
+
+static void bs_line_and_apex(vt_rng *r, double *xy, size_t n) {
+    for (size_t i = 0; i + 1 < n; i++) {
+        xy[2 * i] = 0.5 * (double)i;
+        xy[2 * i + 1] = 0.25 * (double)i;
+    }
+    for (size_t i = n - 1; i > 1; i--) { /* shuffle the line's sites */
+        size_t j = (size_t)(vt_next(r) % i);
+        double x = xy[2 * (i - 1)], y = xy[2 * (i - 1) + 1];
+        xy[2 * (i - 1)] = xy[2 * j];
+        xy[2 * (i - 1) + 1] = xy[2 * j + 1];
+        xy[2 * j] = x;
+        xy[2 * j + 1] = y;
+    }
+    xy[2 * n - 2] = 10;
+    xy[2 * n - 1] = -3;
+}
+
 static void bs_mixed_exponents(vt_rng *r, double *xy, size_t n) {
     for (size_t i = 0; i < 2 * n; i++) {
         int e = (int)(vt_next(r) % 1000) - 500;
@@ -332,6 +361,8 @@ static const struct {
     {"soneira", bs_soneira},
     {"duplicates", bs_duplicates},
     {"near-line", bs_near_line},
+    {"geometric-line", bs_geometric_line},
+    {"line-and-apex", bs_line_and_apex},
     {"mixed-exponents", bs_mixed_exponents},
     {"time-series", bs_time_series},
 };

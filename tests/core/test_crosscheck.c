@@ -519,7 +519,8 @@ static void test_distributions(void **state) {
 
 /* Every shape that make bench times against CGAL (bench/bench_shapes.h:
  * rows and columns, lattices rounded or turned, curves, a star, ulp-fine
- * steps, exponents over 2^+-500, a near-line, repeated points) at small
+ * steps, exponents over 2^+-500, a near-line, a line at geometric steps,
+ * a line with one site off it, repeated points) at small
  * sizes, each through the brute-force oracle: the bench checks the
  * triangulations at 10^5 sites, here the diagrams must agree bit for bit. */
 static void test_shapes(void **state) {
