@@ -352,6 +352,27 @@ static void test_centre_flat(void **state) {
     printf("# flat triangles: %d checked, %d with a double det of 0, worst "
            "error %.3g of the bound\n", checked, zero_d, worst_ratio);
     assert_true(zero_d > 0);
+    /* sites within a factor of two of each other in every coordinate,
+     * so that their differences are exact (vor_circumcenter's flat path:
+     * the determinant from exact products), on a line and moved off it
+     * by an ulp or three */
+    int flat = 0;
+    for (int k = 0; k < 200000 && flat < 20000; k++) {
+        double a[2] = {1500 + 499 * sym(), 1500 + 499 * sym()};
+        double b[2] = {a[0] + 0.25 * sym(), a[1] + 0.25 * sym()};
+        double t = 1 + vt_unit(&rng) * 3;
+        double c[2] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+        int bump = 1 + (int)(vt_next(&rng) % 3);
+        for (int i = 0; i < bump; i++)
+            c[i % 2] = nextafter(c[i % 2], i < 2 ? 4000.0 : 0.0);
+        if (vor_orient2d(a, b, c) == 0)
+            continue;
+        flat += check_centre(a, b, c);
+        check_close(a, b, c);
+    }
+    printf("# flat triangles with exact differences: %d checked, worst error "
+           "%.3g of the bound\n", flat, worst_ratio);
+    assert_true(flat > 10000);
 }
 
 /* ---- bisector direction -------------------------------------------------- */
