@@ -103,8 +103,7 @@ static inline int exact_diff(double u, double v, double *d) {
  * its fma error, so that it is within 2^-51 of itself however flat the
  * triangle. The numerators must still pass the fast path's test (within
  * 2^-30 of themselves). 1 with the centre in out, else 0 (the long double
- * path then). A third of the cost of the long double path, which every
- * triangle of sites along a line took. */
+ * path then, which every triangle of sites along a line used to take). */
 static inline __attribute__((always_inline)) int
 circumcenter_flat(const double *a, const double *b, const double *c,
                   double *out) {
