@@ -22,10 +22,9 @@
  * larger numerator has cancelled to below 2^-20 of its terms, so that
  * each is within about 2^-30 of itself and the centre within 2^-30 of its
  * distance from a (tests/core/test_geometry.c checks 2^-28 against exact
- * centres). A flat triangle whose differences are exact (sites close
- * beside their magnitude) stays in doubles, with the determinant from
- * exact products (circumcenter_flat). Otherwise -- huge, tiny or mixed
- * magnitudes, other flat triangles, a needle -- in long double, from an
+ * centres). A flat triangle stays in doubles with its determinant
+ * computed exactly and rounded once (circumcenter_flat). Otherwise --
+ * huge, tiny or mixed magnitudes, a needle -- in long double, from an
  * end of the triangle's shortest side: its 15-bit exponent holds any
  * product of three doubles, so 1e300 next to 1e-300 needs no rescaling
  * at all; d comes from the exact determinant (vor__orient2d_value), so a
@@ -90,40 +89,23 @@ static void circumcenter_long(const double *a, const double *b,
     out[1] = (double)(a[1] + uy) + 0.0;
 }
 
-/* 1 if u - v is exact in doubles, with it in *d. */
-static inline int exact_diff(double u, double v, double *d) {
-    double x = u - v, bv = u - x, av = x + bv;
-    *d = x;
-    return (u - av) + (bv - v) == 0;
-}
-
-/* The double path for a flat triangle whose differences from a are exact
- * (sites close beside their magnitude, as along a curve): the fast path's
- * formula with the determinant from two exact products, each a double and
- * its fma error, so that it is within 2^-51 of itself however flat the
- * triangle. The numerators must still pass the fast path's test (within
- * 2^-30 of themselves). 1 with the centre in out, else 0 (the long double
- * path then, which every triangle of sites along a line used to take). */
-static inline __attribute__((always_inline)) int
-circumcenter_flat(const double *a, const double *b, const double *c,
-                  double *out) {
-    double bx, by, cx, cy;
-    if (!(exact_diff(b[0], a[0], &bx) & exact_diff(b[1], a[1], &by) &
-          exact_diff(c[0], a[0], &cx) & exact_diff(c[1], a[1], &cy)))
-        return 0;
+/* The double path for a flat triangle, which the fast path gives way on:
+ * the fast path's formula with the determinant exact and rounded once
+ * (vor__orient2d_value, which answers sites close beside their magnitude,
+ * as along a curve, from four terms), so that however flat the triangle
+ * it is within 2^-52 of itself. The numerators must still pass the fast
+ * path's test (within 2^-30 of themselves). 1 with the centre in out,
+ * else 0 (the long double path then, which every triangle of sites along
+ * a line used to take). */
+static int circumcenter_flat(const double *a, const double *b,
+                             const double *c, double *out) {
+    double bx = b[0] - a[0], by = b[1] - a[1];
+    double cx = c[0] - a[0], cy = c[1] - a[1];
     if (!(vor__cc_in_window(bx) & vor__cc_in_window(by) &
           vor__cc_in_window(cx) & vor__cc_in_window(cy)))
         return 0;
-    /* products within [2^-600, 2^600]: their fma errors are exact */
-    double p = bx * cy, q = by * cx;
-    double pe = fma(bx, cy, -p), qe = fma(by, cx, -q);
-    /* the three roundings below cost at most 2^-53 (|hi| + |lo| + |sum|),
-     * under 2^-51 |sum| when hi and lo do not cancel (hi is even exact:
-     * the fast path gives way here only when p and q agree to 2^-19) */
-    double hi = p - q, lo = pe - qe, sum = hi + lo;
-    if (!(fabs(hi) + fabs(lo) <= 2 * fabs(sum)))
-        return 0;
-    double d = 2 * sum;
+    double d = 2 * (double)vor__orient2d_value(a, b, c);
+    if (!(fabs(d) >= DBL_MIN)) return 0; /* collinear, or subnormal */
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
     double px = cy * b2, qx = by * c2, py = bx * c2, qy = cx * b2;
     double nx = px - qx, ny = py - qy;
@@ -138,7 +120,6 @@ circumcenter_flat(const double *a, const double *b, const double *c,
     return 1;
 }
 
-VOR__FMA_CLONES
 void vor_circumcenter(const double *a, const double *b, const double *c,
                       double *out) {
     /* the double path is inlined in predicates.h for the hot loops */
