@@ -22,9 +22,9 @@
  * larger numerator has cancelled to below 2^-20 of its terms, so that
  * each is within about 2^-30 of itself and the centre within 2^-30 of its
  * distance from a (tests/core/test_geometry.c checks 2^-28 against exact
- * centres). A flat triangle stays in doubles with its determinant
- * computed exactly and rounded once (circumcenter_flat). Otherwise --
- * huge, tiny or mixed magnitudes, a needle -- in long double, from an
+ * centres); a flat triangle's determinant is computed exactly and
+ * rounded once there instead. Otherwise -- huge, tiny or mixed
+ * magnitudes, a needle -- in long double, from an
  * end of the triangle's shortest side: its 15-bit exponent holds any
  * product of three doubles, so 1e300 next to 1e-300 needs no rescaling
  * at all; d comes from the exact determinant (vor__orient2d_value), so a
@@ -34,10 +34,9 @@
  * 10^-10 apart). The build requires such a long double (x86 extended or
  * binary128); a static assertion says so.
  *
- * Cost: about 10 ns in doubles, about 100 ns on the long double path,
- * which took none of the 2 * 10^6 vertices of 10^6 uniform, gaussian or
- * circle sites, 2% of those of 10^5 sites on a parabola; the flat path
- * saved about 30 ns a vertex against it on sites along a line.
+ * Cost: about 10 ns in doubles, more for a flat triangle (its exact
+ * determinant), about 100 ns on the long double path, which none of the
+ * 2 * 10^6 vertices of 10^6 uniform, gaussian or circle sites takes.
  */
 #include <float.h>
 #include <math.h>
@@ -89,42 +88,10 @@ static void circumcenter_long(const double *a, const double *b,
     out[1] = (double)(a[1] + uy) + 0.0;
 }
 
-/* The double path for a flat triangle, which the fast path gives way on:
- * the fast path's formula with the determinant exact and rounded once
- * (vor__orient2d_value, which answers sites close beside their magnitude,
- * as along a curve, from four terms), so that however flat the triangle
- * it is within 2^-52 of itself. The numerators must still pass the fast
- * path's test (within 2^-30 of themselves). 1 with the centre in out,
- * else 0 (the long double path then, which every triangle of sites along
- * a line used to take). */
-static int circumcenter_flat(const double *a, const double *b,
-                             const double *c, double *out) {
-    double bx = b[0] - a[0], by = b[1] - a[1];
-    double cx = c[0] - a[0], cy = c[1] - a[1];
-    if (!(vor__cc_in_window(bx) & vor__cc_in_window(by) &
-          vor__cc_in_window(cx) & vor__cc_in_window(cy)))
-        return 0;
-    double d = 2 * (double)vor__orient2d_value(a, b, c);
-    if (!(fabs(d) >= DBL_MIN)) return 0; /* collinear, or subnormal */
-    double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-    double px = cy * b2, qx = by * c2, py = bx * c2, qy = cx * b2;
-    double nx = px - qx, ny = py - qy;
-    double n = fabs(nx) > fabs(ny) ? fabs(nx) : fabs(ny);
-    double tx = fabs(px) + fabs(qx), ty = fabs(py) + fabs(qy);
-    if (!(n > 0x1p-20 * (tx > ty ? tx : ty)))
-        return 0;
-    double ux = nx / d, uy = ny / d;
-    if (!(fabs(ux) <= DBL_MAX && fabs(uy) <= DBL_MAX)) return 0;
-    out[0] = a[0] + ux + 0.0; /* + 0.0: no -0.0 */
-    out[1] = a[1] + uy + 0.0;
-    return 1;
-}
-
 void vor_circumcenter(const double *a, const double *b, const double *c,
                       double *out) {
     /* the double path is inlined in predicates.h for the hot loops */
-    if (!vor__circumcenter_fast(a, b, c, out) &&
-        !circumcenter_flat(a, b, c, out))
+    if (!vor__circumcenter_fast(a, b, c, out))
         circumcenter_long(a, b, c, out);
 }
 

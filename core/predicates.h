@@ -80,6 +80,7 @@
 #ifndef VOR_PREDICATES_H
 #define VOR_PREDICATES_H
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -366,15 +367,21 @@ static inline int vor__circumcenter_fast(const double *a, const double *b,
           vor__cc_in_window(cx) & vor__cc_in_window(cy)))
         return 0;
     /* a flat triangle (three sites nearly on a line, on the rounded edge
-     * of a turned grid, say): the rounded determinant has an error below
-     * 2^-51 (|p| + |q|), so above 2^-20 of that it is within 2^-30 of
-     * itself; below, its centre, far away, could be off by a per cent,
-     * and the fallback computes the determinant exactly (not at 2^-10:
-     * the ears of 10^6 sites on a circle, at 2^-17, took that path and
-     * Bowyer-Watson a fifth longer) */
+     * of a turned grid, sites along a curve): the rounded determinant has
+     * an error below 2^-51 (|p| + |q|), so above 2^-20 of that it is
+     * within 2^-30 of itself; below, its centre, far away, could be off
+     * by a per cent, and the determinant is computed exactly and rounded
+     * once instead (vor__orient2d_value: four terms for sites close beside
+     * their magnitude, whose flat triangles all come here; until they did,
+     * the long double fallback took a third of a run on a line). Not at
+     * 2^-10: the ears of 10^6 sites on a circle, at 2^-17, would pay for
+     * it, as they paid for the fallback (Bowyer-Watson a fifth longer). */
     double p = bx * cy, q = by * cx, d = 2 * (p - q);
-    if (!(fabs(d) > 0x1p-20 * (fabs(p) + fabs(q))))
-        return 0;
+    if (!(fabs(d) > 0x1p-20 * (fabs(p) + fabs(q)))) {
+        d = 2 * (double)vor__orient2d_value(a, b, c);
+        if (!(fabs(d) >= DBL_MIN)) /* collinear, or subnormal */
+            return 0;
+    }
     double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
     /* likewise the numerators: a needle (two sites 10^-7 apart, the third
      * 3 away along a curve) cancels 25 bits of one, and its centre was off
@@ -386,8 +393,11 @@ static inline int vor__circumcenter_fast(const double *a, const double *b,
     double tx = fabs(px) + fabs(qx), ty = fabs(py) + fabs(qy); /* a call */
     if (!(n > 0x1p-20 * (tx > ty ? tx : ty)))
         return 0;
-    out[0] = a[0] + nx / d + 0.0; /* + 0.0: no -0.0 */
-    out[1] = a[1] + ny / d + 0.0;
+    double ux = nx / d, uy = ny / d; /* a flat triangle's may overflow */
+    if (!(fabs(ux) <= DBL_MAX && fabs(uy) <= DBL_MAX))
+        return 0;
+    out[0] = a[0] + ux + 0.0; /* + 0.0: no -0.0 */
+    out[1] = a[1] + uy + 0.0;
     return 1;
 }
 
