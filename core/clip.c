@@ -425,11 +425,11 @@ vor_status vor_clip(const vor_diagram *d, const vor_sites *sites,
     c = calloc(1, sizeof *c);
     if (!c) goto fail;
     memcpy(c->box, box, sizeof c->box);
-    c->seg = malloc((ne ? ne : 1) * 4 * sizeof *c->seg);
-    c->seg_in = malloc(ne ? ne : 1);
-    c->poly_start = malloc((n + 1) * sizeof *c->poly_start);
-    c->poly_xy = malloc((cap_poly ? cap_poly : 1) * 2 * sizeof *c->poly_xy);
-    ray_of = malloc((ne ? ne : 1) * sizeof *ray_of);
+    c->seg = vor__alloc_large(4 * ne, sizeof *c->seg);
+    c->seg_in = vor__alloc_large(ne, 1);
+    c->poly_start = vor__alloc_large(n + 1, sizeof *c->poly_start);
+    c->poly_xy = vor__alloc_large(2 * cap_poly, sizeof *c->poly_xy);
+    ray_of = vor__alloc_large(ne, sizeof *ray_of);
     buf_a = malloc((maxk + 12) * sizeof *buf_a);
     buf_b = malloc((maxk + 12) * sizeof *buf_b);
     if (!c->seg || !c->seg_in || !c->poly_start || !c->poly_xy || !ray_of ||

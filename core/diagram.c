@@ -66,8 +66,7 @@
  * every array of a successful diagram is non-NULL. */
 static void *xmalloc(size_t count, size_t size) {
     if (count == 0) count = 1;
-    if (count > SIZE_MAX / size) return NULL;
-    return malloc(count * size);
+    return vor__alloc_large(count, size);
 }
 
 void vor_diagram_free(vor_diagram *d) {

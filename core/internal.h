@@ -73,22 +73,26 @@ void vor__bbox(const double *xy, size_t n, double box[4]);
 
 /* ---- Big arrays (core/mesh.c) ---------------------------------------------
  * malloc(count * size) (NULL on overflow or failure; free with free()) for
- * the big arrays of the sites, the order and the diagram. */
+ * the big arrays of the sites, the order, the mesh, the sweep and the
+ * diagram. A block of 4 MiB or more is advised to the kernel as a
+ * candidate for huge pages (Linux's MADV_HUGEPAGE, where available; a
+ * hint, errors ignored; only the whole 2 MiB pages inside it): a cold run
+ * at 10^6 sites touches about 280 bytes a site for the first time, and
+ * at 10^6 sites nearly every visit of the mesh misses the TLB with 4 KiB
+ * pages.
+ *
+ * What a first touch costs depends on the host. On a virtual machine
+ * whose guest page faults are dear (a PVM guest: 10.6 us for every 4 KiB
+ * page, against 6.2 us a 4 KiB share of a huge page the host has not
+ * backed yet and 0.2 us of one it has), huge pages made cold runs at 10^6
+ * a quarter to a third faster. On one whose 4 KiB faults were served
+ * cheaply from pages freed a moment ago, but whose balloon reported free
+ * 2 MiB blocks to the host (free page reporting), advising every array
+ * made cold runs a quarter slower than advising only the mesh. Where
+ * faults cost anything, one for 2 MiB beats 512 for 4 KiB each; the
+ * advice is for every big array that is written densely (Fortune keeps
+ * its sparse ones apart, see recs_resize). */
 void *vor__alloc_large(size_t count, size_t size);
-/* The same for the arrays visited at random for the whole construction:
- * the mesh and the coordinates in insertion (or sweep) order. A block of
- * 4 MiB or more is advised to the kernel as a candidate for huge pages
- * (Linux's MADV_HUGEPAGE, where available; a hint, errors ignored): at a
- * million sites nearly every visit of such an array misses the TLB with
- * 4 KiB pages. Only these: a huge page takes a free 2 MiB block, and on a
- * virtual machine that reports free blocks of that size to its host (a
- * virtio balloon with free page reporting) such a block is often no
- * longer backed, so that its first touch costs a host fault for every
- * 4 KiB in it, about 2 ns a byte, where 4 KiB faults are served from
- * pages freed a moment ago. Advising every big array made cold runs at
- * 10^6 sites a quarter slower there than advising none; advising these
- * makes them a few per cent faster. */
-void *vor__alloc_random(size_t count, size_t size);
 /* The same for an array whose first writes land at random (the
  * conversion's records and cell offsets, written in site order from a
  * walk in insertion order). A block of 1 MiB or more has its pages
@@ -107,7 +111,9 @@ void *vor__calloc_large(size_t count, size_t size);
  * the kernel when it is freed: from the C library's heap, a block freed
  * below newer ones stays resident as a hole that the later, bigger arrays
  * do not fit in (4 bytes a site each for the conversion's degree counts
- * and Fortune's event buckets, at 10^6 sites). Smaller ones are calloc's. */
+ * and Fortune's event buckets, at 10^6 sites); one of 4 MiB or more is
+ * advised for huge pages as vor__alloc_large's. Smaller ones are
+ * calloc's. */
 void *vor__scratch_new(size_t count, size_t size);
 void vor__scratch_free(void *p);
 

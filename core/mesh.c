@@ -85,11 +85,7 @@ void *vor__alloc_large(size_t count, size_t size) {
         count = 1;
     if (count > SIZE_MAX / size)
         return NULL;
-    return malloc(count * size);
-}
-
-void *vor__alloc_random(size_t count, size_t size) {
-    void *p = vor__alloc_large(count, size);
+    void *p = malloc(count * size);
     advise_huge(p, count * size);
     return p;
 }
@@ -104,6 +100,7 @@ void *vor__calloc_large(size_t count, size_t size) {
     if (count == 0)
         count = 1;
     void *p = calloc(count, size); /* checks the product */
+    advise_huge(p, count * size);
     populate(p, count * size);
     return p;
 }
@@ -128,6 +125,7 @@ void *vor__scratch_new(size_t count, size_t size) {
         if (m == MAP_FAILED)
             return NULL;
         p = m; /* zeroed by the kernel */
+        advise_huge(m, bytes);
     }
 #endif
     if (!p) {
@@ -236,9 +234,9 @@ vor_status vor__mesh_begin(vor__mesh *m, const double *xy, size_t n,
     order[k] = order[2];
     order[2] = c;
     if (!local)
-        local = vor__alloc_random(2 * n, sizeof *local);
-    m->tri = vor__alloc_random(3 * cap, sizeof *m->tri);
-    m->adj = vor__alloc_random(3 * cap, sizeof *m->adj);
+        local = vor__alloc_large(2 * n, sizeof *local);
+    m->tri = vor__alloc_large(3 * cap, sizeof *m->tri);
+    m->adj = vor__alloc_large(3 * cap, sizeof *m->adj);
     if (!local || !m->tri || !m->adj) {
         free(local);
         vor__mesh_clear(m);
@@ -434,7 +432,7 @@ vor_status vor__mesh_order_new(const vor_sites *s, uint32_t **order,
     if (s->n < 3)
         return VOR_EINVAL;
     uint32_t *o = vor__alloc_large(s->n, sizeof *o);
-    double *c = coords ? vor__alloc_random(2 * s->n, sizeof *c) : NULL;
+    double *c = coords ? vor__alloc_large(2 * s->n, sizeof *c) : NULL;
     vor_status r = VOR_ENOMEM;
     if (o && (c || !coords))
         r = vor__insertion_order_in(s->xy, s->n, o, counts, (uint64_t *)c);

@@ -198,13 +198,6 @@ static inline int in_polygon(const uint8_t *cc, uint32_t t) {
     return is_cc(cc, 3 * t) | is_cc(cc, 3 * t + 1) | is_cc(cc, 3 * t + 2);
 }
 
-/* The conversion's arrays, without huge pages: each is visited by one or
- * two passes only, and advising them cost cold runs more than their TLB
- * misses do (internal.h, vor__alloc_random). */
-static void *xmalloc(size_t count, size_t size) {
-    return vor__alloc_large(count, size);
-}
-
 /* The fan scratch in s's FAN0 slots (vor__mesh_dual's frame). */
 typedef struct fan_scratch {
     key_slot ks[FAN0], kt[FAN0], km[FAN0];
@@ -745,7 +738,7 @@ static int merge_prepare(dual *D) {
     const int32_t *adj = D->adj;
     const double *lxy = D->lxy;
     D->cc = calloc((3 * T + 7) / 8, 1);
-    D->root = xmalloc(T, sizeof *D->root);
+    D->root = vor__alloc_large(T, sizeof *D->root);
     if (!D->cc || !D->root) return PASS_NOMEM;
     uint8_t *cc = D->cc;
     uint32_t *root = D->root; /* set for triangles in polygons only */
@@ -782,7 +775,7 @@ static int merge_prepare(dual *D) {
      * their representatives, so that on input with few cocircular sites
      * (points on a circle: one polygon in 10^6 sites) its pages are
      * never touched */
-    D->min3 = xmalloc(3 * T, sizeof *D->min3);
+    D->min3 = vor__alloc_large(3 * T, sizeof *D->min3);
     if (!D->min3) return PASS_NOMEM;
     size_t np = 0;
     for (size_t t = 0; t < T; t++) {
@@ -889,8 +882,8 @@ static int patch(dual *D) {
     }
     /* mark and join, as merge_prepare does */
     D->cc = calloc((3 * T + 7) / 8, 1);
-    D->root = xmalloc(T, sizeof *D->root);
-    D->min3 = xmalloc(3 * T, sizeof *D->min3);
+    D->root = vor__alloc_large(T, sizeof *D->root);
+    D->min3 = vor__alloc_large(3 * T, sizeof *D->min3);
     D->patched = malloc(2 * npv * sizeof *D->patched);
     if (!D->cc || !D->root || !D->min3 || !D->patched) goto out;
     D->plen = D->patched + npv;
@@ -1070,10 +1063,10 @@ static int alloc_result(dual *D, uint32_t **tri, size_t ne, size_t nr) {
     vor_diagram *d = D->d;
     if ((d->edge_sites = reuse(*tri, 2 * ne, sizeof *d->edge_sites)))
         *tri = NULL;
-    d->edge_ends = xmalloc(2 * ne, sizeof *d->edge_ends);
-    d->ray_edge = xmalloc(nr, sizeof *d->ray_edge);
-    d->ray_dir = xmalloc(2 * nr, sizeof *d->ray_dir);
-    d->cell_bounded = xmalloc(D->n, 1);
+    d->edge_ends = vor__alloc_large(2 * ne, sizeof *d->edge_ends);
+    d->ray_edge = vor__alloc_large(nr, sizeof *d->ray_edge);
+    d->ray_dir = vor__alloc_large(2 * nr, sizeof *d->ray_dir);
+    d->cell_bounded = vor__alloc_large(D->n, 1);
     return d->edge_sites && d->edge_ends && d->ray_edge &&
                    d->ray_dir && d->cell_bounded
                ? PASS_OK
@@ -1102,7 +1095,7 @@ vor_status vor__mesh_dual(const vor_sites *s, vor__mesh *m, double *lxy,
         D.small = small;
 
     vor_diagram *d = D.d = calloc(1, sizeof *d);
-    D.outl = D.small ? D.small : xmalloc(n, sizeof *D.outl);
+    D.outl = D.small ? D.small : vor__alloc_large(n, sizeof *D.outl);
     if (!d || !D.outl) goto done;
     d->n_sites = n;
     d->cell_start = vor__alloc_scattered(n + 1, sizeof *d->cell_start);

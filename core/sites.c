@@ -98,8 +98,8 @@ vor_status vor_sites_new(const double *xy, size_t n, vor_sites **out,
     }
     uint64_t *table = vor__calloc_large(cap, sizeof *table);
     s->xy = vor__alloc_large(2 * n, sizeof *s->xy);
-    s->input_of = malloc(n * sizeof *s->input_of);
-    s->site_of = malloc(n * sizeof *s->site_of);
+    s->input_of = vor__alloc_large(n, sizeof *s->input_of);
+    s->site_of = vor__alloc_large(n, sizeof *s->site_of);
     if (!table || !s->xy || !s->input_of || !s->site_of) {
         free(table);
         vor_sites_free(s);
