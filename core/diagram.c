@@ -62,13 +62,6 @@
         }                                                                  \
     } while (0)
 
-/* malloc that never returns NULL for a zero-size request that succeeded:
- * every array of a successful diagram is non-NULL. */
-static void *xmalloc(size_t count, size_t size) {
-    if (count == 0) count = 1;
-    return vor__alloc_large(count, size);
-}
-
 void vor_diagram_free(vor_diagram *d) {
     if (!d) return;
     free(d->vertex_xy);
@@ -145,16 +138,16 @@ static size_t largest(const uint32_t *cnt, size_t n) {
  * O(nv log nv), for one site on every circle. NULL on allocation failure. */
 static uint32_t *sort_vertices(const uint32_t *vs, size_t nv, size_t n,
                                uint32_t *count, uint32_t *newid) {
-    uint32_t *sorted = xmalloc(3 * nv, sizeof *sorted);
-    uint32_t *ids = xmalloc(nv, sizeof *ids);
+    uint32_t *sorted = vor__alloc_large(3 * nv, sizeof *sorted);
+    uint32_t *ids = vor__alloc_large(nv, sizeof *ids);
     rec4 *r = NULL, *tmp = NULL;
     if (!sorted || !ids) goto fail;
     memset(count, 0, (n + 1) * sizeof *count);
     for (size_t v = 0; v < nv; v++) count[vs[3 * v]]++;
     size_t big = largest(count, n);
     if (big > 16) {
-        r = xmalloc(big, sizeof *r);
-        tmp = xmalloc(big, sizeof *tmp);
+        r = vor__alloc_large(big, sizeof *r);
+        tmp = vor__alloc_large(big, sizeof *tmp);
         if (!r || !tmp) goto fail;
     }
     for (size_t i = 0, sum = 0; i <= n; i++) { /* count[i]: start of bucket i */
@@ -219,16 +212,16 @@ static int sort_edges(vor_diagram *d, size_t n, uint32_t *count) {
     const size_t ne = d->n_edges;
     const uint32_t *es = d->edge_sites;
     const int32_t *en = d->edge_ends;
-    uint32_t *ns = xmalloc(2 * ne, sizeof *ns);
-    int32_t *nn = xmalloc(2 * ne, sizeof *nn);
+    uint32_t *ns = vor__alloc_large(2 * ne, sizeof *ns);
+    int32_t *nn = vor__alloc_large(2 * ne, sizeof *nn);
     rec4 *r = NULL, *tmp = NULL;
     if (!ns || !nn) goto fail;
     memset(count, 0, (n + 1) * sizeof *count);
     for (size_t e = 0; e < ne; e++) count[es[2 * e]]++;
     size_t big = largest(count, n);
     if (big > 16) {
-        r = xmalloc(big, sizeof *r);
-        tmp = xmalloc(big, sizeof *tmp);
+        r = vor__alloc_large(big, sizeof *r);
+        tmp = vor__alloc_large(big, sizeof *tmp);
         if (!r || !tmp) goto fail;
     }
     for (size_t i = 0, sum = 0; i <= n; i++) {
@@ -416,8 +409,8 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     ends = NULL;
 
     /* 1. Each vertex's three smallest sites: the union of its edges' sites. */
-    d->vertex_sites = xmalloc(3 * nv, sizeof(uint32_t));
-    count = xmalloc(n + 1, sizeof(uint32_t));
+    d->vertex_sites = vor__alloc_large(3 * nv, sizeof(uint32_t));
+    count = vor__alloc_large(n + 1, sizeof(uint32_t));
     if (!d->vertex_sites || !count) goto fail;
     uint32_t *vs = d->vertex_sites;
     for (size_t k = 0; k < 3 * nv; k++) vs[k] = EMPTY;
@@ -447,7 +440,7 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
 
     /* 2. Vertices in (s0, s1, s2) order, then the edges' ends renumbered. */
     if (nv > 0) {
-        newid = xmalloc(nv, sizeof *newid);
+        newid = vor__alloc_large(nv, sizeof *newid);
         if (!newid) goto fail;
         uint32_t *sorted = sort_vertices(vs, nv, n, count, newid);
         if (!sorted) goto fail;
@@ -483,7 +476,7 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     count = NULL;
 
     /* Coordinates, allocated only now to keep the peak low while sorting. */
-    d->vertex_xy = xmalloc(2 * nv, sizeof(double));
+    d->vertex_xy = vor__alloc_large(2 * nv, sizeof(double));
     if (!d->vertex_xy) goto fail;
     for (size_t v = 0; v < nv; v++) {
         const double *a = xy + 2 * (size_t)vs[3 * v], *b = xy + 2 * (size_t)vs[3 * v + 1],
@@ -495,7 +488,7 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     /* 5. Orientation of each edge around its sites, decided exactly: around
      * site a the walk runs towards the vertex whose other sites lie to the
      * left of a->b. Rays point away from those sites. */
-    fwd = xmalloc(ne, 1);
+    fwd = vor__alloc_large(ne, 1);
     if (!fwd) goto fail;
     size_t nr = 0;
     for (size_t e = 0; e < ne; e++) {
@@ -525,8 +518,8 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
         fwd[e] = o < 0;
     }
     d->n_rays = nr;
-    d->ray_edge = xmalloc(nr, sizeof(uint32_t));
-    d->ray_dir = xmalloc(2 * nr, sizeof(double));
+    d->ray_edge = vor__alloc_large(nr, sizeof(uint32_t));
+    d->ray_dir = vor__alloc_large(2 * nr, sizeof(double));
     if (!d->ray_edge || !d->ray_dir) goto fail;
     nr = 0;
     for (size_t e = 0; e < ne; e++) {
@@ -546,9 +539,9 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     /* 6. Cells: bucket the edges by site (in edge order, each entry
      * tagged with its walking direction), then chain each cell through its
      * vertices. */
-    d->cell_start = xmalloc(n + 1, sizeof(uint32_t));
-    d->cell_edges = xmalloc(2 * ne, sizeof(uint32_t));
-    d->cell_bounded = xmalloc(n, 1);
+    d->cell_start = vor__alloc_large(n + 1, sizeof(uint32_t));
+    d->cell_edges = vor__alloc_large(2 * ne, sizeof(uint32_t));
+    d->cell_bounded = vor__alloc_large(n, 1);
     if (!d->cell_start || !d->cell_edges || !d->cell_bounded) goto fail;
     uint32_t *cs = d->cell_start;
     memset(cs, 0, (n + 1) * sizeof *cs);
@@ -567,8 +560,8 @@ static vor_status build(const vor_sites *s, size_t n_vertices, uint32_t *edges,
     cs[0] = 0;
     free(fwd);
     fwd = NULL;
-    slot = xmalloc(nv, sizeof(uint32_t));
-    tmp = xmalloc(max_k, sizeof(uint32_t));
+    slot = vor__alloc_large(nv, sizeof(uint32_t));
+    tmp = vor__alloc_large(max_k, sizeof(uint32_t));
     if (!slot || !tmp) goto fail;
     for (size_t i = 0; i < n; i++)
         CONTRACT(order_cell(d, slot, tmp, (uint32_t)i) == 0);
@@ -632,7 +625,7 @@ vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
     }
     CONTRACT(T == 0 || (tri != NULL && adj != NULL));
 
-    uf = xmalloc(T, sizeof *uf);
+    uf = vor__alloc_large(T, sizeof *uf);
     if (!uf) goto fail;
     for (size_t t = 0; t < T; t++) uf[t] = (uint32_t)t;
     size_t hull = 0;
@@ -666,8 +659,8 @@ vor_status vor__mesh_to_diagram(const vor_sites *s, vor__mesh *m,
 
     /* Delaunay edges: (3T + hull) / 2; those inside a group vanish. */
     size_t cap = (3 * T + hull) / 2, ne = 0;
-    edges = xmalloc(2 * cap, sizeof *edges);
-    ends = xmalloc(2 * cap, sizeof *ends);
+    edges = vor__alloc_large(2 * cap, sizeof *edges);
+    ends = vor__alloc_large(2 * cap, sizeof *ends);
     if (!edges || !ends) goto fail;
     for (size_t e = 0; e < 3 * T; e++) {
         int32_t f = adj[e];
@@ -755,10 +748,10 @@ vor_status vor__diagram_degenerate(const vor_sites *s, vor_diagram **out) {
         st = VOR_ETOOMANY;
         goto fail;
     }
-    edges = xmalloc(2 * ne, sizeof *edges);
-    ends = xmalloc(2 * ne, sizeof *ends);
-    ord = xmalloc(n, sizeof *ord);
-    tmp = xmalloc(n, sizeof *tmp);
+    edges = vor__alloc_large(2 * ne, sizeof *edges);
+    ends = vor__alloc_large(2 * ne, sizeof *ends);
+    ord = vor__alloc_large(n, sizeof *ord);
+    tmp = vor__alloc_large(n, sizeof *tmp);
     if (!edges || !ends || !ord || !tmp) goto fail;
     for (size_t i = 0; i < n; i++) ord[i] = (uint32_t)i;
     sort_along(s->xy, ord, tmp, n);
@@ -813,7 +806,7 @@ vor_status vor__diagram_triangles_cells(const vor_diagram *d,
      * on its circle; off[] holds the CSR offsets of the (site, successor)
      * pairs, cur[] the fill cursors. */
     off = calloc(nv + 1, sizeof *off);
-    cur = xmalloc(nv, sizeof *cur);
+    cur = vor__alloc_large(nv, sizeof *cur);
     if (!off || !cur) goto fail;
     for (size_t k = 0; k < 2 * ne; k++) {
         int32_t v = d->edge_ends[k];
@@ -830,10 +823,10 @@ vor_status vor__diagram_triangles_cells(const vor_diagram *d,
         cur[v] = off[v];
     }
     size_t n_pairs = off[nv], filled = 0;
-    pairs = xmalloc(2 * n_pairs, sizeof *pairs);
-    nxt = xmalloc(n, sizeof *nxt);
-    stamp = xmalloc(n, sizeof *stamp);
-    tri = xmalloc(3 * ntri, sizeof *tri);
+    pairs = vor__alloc_large(2 * n_pairs, sizeof *pairs);
+    nxt = vor__alloc_large(n, sizeof *nxt);
+    stamp = vor__alloc_large(n, sizeof *stamp);
+    tri = vor__alloc_large(3 * ntri, sizeof *tri);
     if (!pairs || !nxt || !stamp || !tri) goto fail;
     for (size_t i = 0; i < n && nv > 0; i++) {
         size_t a = d->cell_start[i], b = d->cell_start[i + 1];
@@ -1031,7 +1024,7 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
         /* degrees; then, for the vertices of more than three, their
          * edges (CSR: hoff[v] their first, filled from the end) */
         deg = calloc(nv, sizeof *deg);
-        hoff = xmalloc(nv + 1, sizeof *hoff);
+        hoff = vor__alloc_large(nv + 1, sizeof *hoff);
         if (!deg || !hoff) goto done;
         for (size_t k = 0; k < 2 * ne; k++) {
             int32_t v = d->edge_ends[k];
@@ -1048,15 +1041,15 @@ vor_status vor_diagram_triangles(const vor_diagram *d, const vor_sites *sites,
             if (deg[v] > kmax) kmax = deg[v];
             hoff[v] = (uint32_t)h;
         }
-        hedge = xmalloc(h ? h : 1, sizeof *hedge);
-        pr = xmalloc(4 * kmax, sizeof *pr);
+        hedge = vor__alloc_large(h ? h : 1, sizeof *hedge);
+        pr = vor__alloc_large(4 * kmax, sizeof *pr);
         if (!hedge || !pr) goto done;
         for (size_t k = 0; k < 2 * ne; k++) {
             int32_t v = d->edge_ends[k];
             if (v >= 0 && deg[v] > 3) hedge[--hoff[v]] = (uint32_t)(k / 2);
         }
     }
-    tri = xmalloc(3 * ntri, sizeof *tri);
+    tri = vor__alloc_large(3 * ntri, sizeof *tri);
     if (!tri) goto done;
     const uint32_t *vs = d->vertex_sites;
     const double *xy = sites->xy;

@@ -72,9 +72,10 @@ int vor_incircle(const double *a, const double *b, const double *c,
 void vor__bbox(const double *xy, size_t n, double box[4]);
 
 /* ---- Big arrays (core/mesh.c) ---------------------------------------------
- * malloc(count * size) (NULL on overflow or failure; free with free()) for
- * the big arrays of the sites, the order, the mesh, the sweep and the
- * diagram. A block of 4 MiB or more is advised to the kernel as a
+ * malloc(count * size) (NULL on overflow or failure; free with free();
+ * never NULL for a count of 0 that succeeded, so that every array of a
+ * successful diagram is non-NULL) for the big arrays of the sites, the
+ * order, the mesh, the sweep and the diagram. A block of 4 MiB or more is advised to the kernel as a
  * candidate for huge pages (Linux's MADV_HUGEPAGE, where available; a
  * hint, errors ignored; only the whole 2 MiB pages inside it): a cold run
  * at 10^6 sites touches about 280 bytes a site for the first time, and
