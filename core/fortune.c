@@ -1592,9 +1592,8 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
 /* ---- Event records and the heap ------------------------------------------ */
 
 /* Gives the per-record arrays room for cap records, keeping the n_recs
- * records there are: in one allocation those that every event writes
- * (most inputs are small, and their sweeps then cost one malloc for all of
- * it), in another those filled on first use, for ties. -1 if out of
+ * records there are, in two allocations: one for the arrays that every
+ * event writes, one for those filled on first use, for ties. -1 if out of
  * memory, with nothing changed.
  *
  * The second block is apart because its writes are sparse: with it in the

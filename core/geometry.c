@@ -24,15 +24,15 @@
  * distance from a (tests/core/test_geometry.c checks 2^-28 against exact
  * centres); a flat triangle's determinant is computed exactly and
  * rounded once there instead. Otherwise -- huge, tiny or mixed
- * magnitudes, a needle -- in long double, from an
- * end of the triangle's shortest side: its 15-bit exponent holds any
- * product of three doubles, so 1e300 next to 1e-300 needs no rescaling
- * at all; d comes from the exact determinant (vor__orient2d_value), so a
- * flat triangle still gets its far-away centre; and from the short side's
- * end the numerators do not cancel, and the short side is not rounded
- * away by differences taken from a far corner (a site 10^10 away from two
- * 10^-10 apart). The build requires such a long double (x86 extended or
- * binary128); a static assertion says so.
+ * magnitudes, a needle -- in long double, from an end of the triangle's
+ * shortest side: its 15-bit exponent holds any product of three doubles,
+ * so 1e300 next to 1e-300 needs no rescaling at all; d comes from the
+ * exact determinant (vor__orient2d_value), so a flat triangle still gets
+ * its far-away centre; and from the short side's end the numerators do
+ * not cancel, and the short side is not rounded away by differences
+ * taken from a far corner (a site 10^10 away from two 10^-10 apart). The
+ * build requires such a long double (x86 extended or binary128); a static
+ * assertion says so.
  *
  * Cost: about 10 ns in doubles, more for a flat triangle (its exact
  * determinant), about 100 ns on the long double path, which none of the
