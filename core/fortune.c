@@ -242,14 +242,13 @@ typedef struct sweep {
     uint32_t n_late;
     int late_ok;    /* sites remain: a new event may wait in late[] */
     double ylast;   /* the last site's y */
-    double *cache; /* 6 per record: see event_dd() and event_exact() */
-    double *boxes; /* 4 per record: see event_box() */
-    /* 3 per record: the y of the triple's left site, the top's height
-     * above it and that height's error bound (see event_off) */
-    double *offs;
-    double *shapes; /* VOR__FORTUNE_SHAPE per record: see event_shape() */
-    /* (cache is the block behind these four, see recs_resize) */
-    uint16_t *known; /* per record: which parts of its cache are filled */
+    /* What the tie-breaking stages know about a record's event lives in
+     * a side slot of SIDE_DOUBLES (see side_of), taken on first use. */
+    uint32_t *slot;  /* per record: its side slot, if HAS_SLOT */
+    uint16_t *known; /* per record: which parts of its slot are filled */
+    double *side;       /* cap_recs slots, filled in order */
+    uint32_t n_slots;   /* slots handed out so far */
+    uint32_t free_slot; /* list of freed slots, NO_EVENT if none */
     uint32_t n_recs, cap_recs;
     void *rec_block; /* the one allocation behind the per-record arrays */
     uint32_t free_recs; /* list of freed records through hpos */
@@ -1591,62 +1590,118 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
 
 /* ---- Event records and the heap ------------------------------------------ */
 
+/* What the tie-breaking stages know about record r's event, computed on
+ * first use and kept in its side slot (side_of), known[r] saying which
+ * parts are filled:
+ * c[0..2] the double-double bounds (hi, lo, err; err < 0 if unavailable;
+ * outside the safe range, tight_top's) (KNOWN_DD),
+ * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
+ * exact) (KNOWN_EXACT),
+ * c[6..9] its box (event_box), c[10..12] its offs (event_off),
+ * c[13..24] its shape (event_shape). */
+enum {
+    KNOWN_DD = 1,
+    KNOWN_EXACT = 2,
+    KNOWN_BOX = 4,
+    IS_BOX = 8,
+    KNOWN_OFFSET = 16,
+    KNOWN_TOP = 32, /* c[0..1] hold the top exactly, c[2] = 0 */
+    KNOWN_SHAPE = 64, /* the record's shape filled, if HAS_SHAPE (event_shape) */
+    HAS_SHAPE = 128,
+    KNOWN_OFF = 256, /* its offs filled (event_off) */
+    HAS_SLOT = 512   /* slot[r] is its side slot */
+};
+
+#define SIDE_BOX 6
+#define SIDE_OFF 10
+#define SIDE_SHAPE 13
+#define SIDE_DOUBLES (SIDE_SHAPE + VOR__FORTUNE_SHAPE)
+
+/* Side slots. Few events meet a tie at any one time, and their records
+ * are spread over all the sweep has: on 10^6 sites on a circle, at most
+ * 1,247 at once among 10^6 records. Kept in arrays indexed by record,
+ * what ties taught wrote a few doubles here and there over 400 MB and
+ * faulted in a page for nearly every write (23 k of the run's 40 k page
+ * faults were the shapes' and the bounds'; 16.6 k faults in all with
+ * slots, and 383 -> 292 bytes a site at the peak). A slot is taken in
+ * order from a block of one per record (recs_resize; pages never
+ * written cost nothing), freed with its record and kept when the
+ * record is reused for a new triple (rec_fill), so that the slots in
+ * use stay as many as the records that meet ties now, packed at the
+ * block's start. There are never more slots than records: a record has
+ * at most one. */
+static inline double *slot_at(const sweep *w, uint32_t k) {
+    return w->side + SIDE_DOUBLES * (size_t)k;
+}
+
+static void slot_free(sweep *w, uint32_t k) {
+    memcpy(slot_at(w, k), &w->free_slot, sizeof w->free_slot);
+    w->free_slot = k;
+}
+
+/* Record r's side slot, taken if it has none. */
+static inline double *side_of(sweep *w, uint32_t r) {
+    if (!(w->known[r] & HAS_SLOT)) {
+        uint32_t k = w->free_slot;
+        if (k != NO_EVENT)
+            memcpy(&w->free_slot, slot_at(w, k), sizeof w->free_slot);
+        else
+            k = w->n_slots++;
+        w->slot[r] = k;
+        w->known[r] |= HAS_SLOT;
+    }
+    return slot_at(w, w->slot[r]);
+}
+
 /* Gives the per-record arrays room for cap records, keeping the n_recs
- * records there are, in two allocations: one for the arrays that every
- * event writes, one for those filled on first use, for ties. -1 if out of
- * memory, with nothing changed.
- *
- * The second block is apart because its writes are sparse: with it in the
- * first, that block's advice for huge pages (vor__alloc_large) made each
- * write map 2 MiB, and 10^6 sites on a circle peaked at 414 bytes a site
- * instead of 373. */
+ * records there are, and the side slots room for as many (side_of): two
+ * allocations, the first of the arrays that every event writes. -1 if
+ * out of memory, with nothing changed. The slots are apart because
+ * their block is written only as far as ties need it, and the first
+ * block's advice for huge pages (vor__alloc_large) would map it 2 MiB
+ * at a time. */
 static int recs_resize(sweep *w, uint32_t cap) {
     size_t c = cap, k = w->n_recs;
     /* widest alignment first */
     size_t bytes = c * (2 * sizeof(event) + sizeof(evrec) +
-                        5 * sizeof(uint32_t) + sizeof(uint16_t));
+                        6 * sizeof(uint32_t) + sizeof(uint16_t));
     char *p = vor__alloc_large(bytes, 1);
-    double *lazy = malloc((13 + VOR__FORTUNE_SHAPE) * c * sizeof *lazy);
-    if (!p || !lazy) {
+    double *side = malloc(c * SIDE_DOUBLES * sizeof *side);
+    if (!p || !side) {
         free(p);
-        free(lazy);
+        free(side);
         return -1;
     }
-    double *cache = lazy, *boxes = cache + 6 * c, *offs = boxes + 4 * c;
-    double *shapes = offs + 3 * c;
     event *heap = (event *)(void *)p;
     event *ekey = heap + c;
     evrec *recs = (evrec *)(ekey + c);
     uint32_t *blink = (uint32_t *)(recs + c);
     uint32_t *hpos = blink + 2 * c;
     uint32_t *late = hpos + c;
-    uint16_t *known = (uint16_t *)(void *)(late + c);
+    uint32_t *slot = late + c;
+    uint16_t *known = (uint16_t *)(void *)(slot + c);
     if (k) {
-        memcpy(cache, w->cache, 6 * k * sizeof *cache);
-        memcpy(boxes, w->boxes, 4 * k * sizeof *boxes);
-        memcpy(offs, w->offs, 3 * k * sizeof *offs);
-        memcpy(shapes, w->shapes, VOR__FORTUNE_SHAPE * k * sizeof *shapes);
         memcpy(heap, w->heap, k * sizeof *heap);
         memcpy(ekey, w->ekey, k * sizeof *ekey);
         memcpy(recs, w->recs, k * sizeof *recs);
         memcpy(blink, w->blink, 2 * k * sizeof *blink);
         memcpy(hpos, w->hpos, k * sizeof *hpos);
         memcpy(late, w->late, w->n_late * sizeof *late);
+        memcpy(slot, w->slot, k * sizeof *slot);
         memcpy(known, w->known, k * sizeof *known);
+        memcpy(side, w->side, w->n_slots * SIDE_DOUBLES * sizeof *side);
     }
     free(w->rec_block);
-    free(w->cache);
+    free(w->side);
     w->rec_block = p;
-    w->cache = cache;
-    w->boxes = boxes;
-    w->offs = offs;
-    w->shapes = shapes;
+    w->side = side;
     w->heap = heap;
     w->ekey = ekey;
     w->recs = recs;
     w->blink = blink;
     w->hpos = hpos;
     w->late = late;
+    w->slot = slot;
     w->known = known;
     w->cap_recs = cap;
     return 0;
@@ -1665,10 +1720,13 @@ static uint32_t rec_new(sweep *w) {
         if (w->cap_recs > UINT32_MAX / 4) return NO_EVENT;
         if (recs_resize(w, 2 * w->cap_recs)) return NO_EVENT;
     }
+    w->known[w->n_recs] = 0;
     return w->n_recs++;
 }
 
 static void rec_free(sweep *w, uint32_t r) {
+    if (w->known[r] & HAS_SLOT) slot_free(w, w->slot[r]);
+    w->known[r] = 0;
     w->hpos[r] = w->free_recs;
     w->free_recs = r;
 }
@@ -1700,29 +1758,9 @@ static void tight_top(const double *a, const double *b, const double *c,
     if (k == 0 || !isfinite(out[2])) out[2] = -1;
 }
 
-/* What the tie-breaking stages know about record r's event, computed on
- * first use (known[r] has bit KNOWN_DD, KNOWN_EXACT once filled; two
- * bytes apart, so that a new record touches no cache line of the
- * doubles):
- * c[0..2] the double-double bounds (hi, lo, err; err < 0 if unavailable;
- * outside the safe range, tight_top's),
- * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
- * exact). */
-enum {
-    KNOWN_DD = 1,
-    KNOWN_EXACT = 2,
-    KNOWN_BOX = 4,
-    IS_BOX = 8,
-    KNOWN_OFFSET = 16,
-    KNOWN_TOP = 32, /* c[0..1] hold the top exactly, c[2] = 0 */
-    KNOWN_SHAPE = 64, /* the record's shape filled, if HAS_SHAPE (event_shape) */
-    HAS_SHAPE = 128,
-    KNOWN_OFF = 256 /* its offs filled (event_off) */
-};
-
 static int event_dd(sweep *w, uint32_t r, const double **v) {
     const evrec *e = &w->recs[r];
-    double *c = w->cache + 6 * (size_t)r;
+    double *c = side_of(w, r);
     if (!(w->known[r] & KNOWN_DD)) {
         w->known[r] |= KNOWN_DD;
         const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
@@ -1751,7 +1789,7 @@ static int event_offset(sweep *w, uint32_t r) {
                                     site_xy(w, t[2]), &v[0], &v[1], &v[2]) ||
         (had && v[2] >= d[2]))
         return 0;
-    memcpy(w->cache + 6 * (size_t)r, v, sizeof v);
+    memcpy(side_of(w, r), v, sizeof v);
     return 1;
 }
 
@@ -1764,7 +1802,7 @@ static int event_offset(sweep *w, uint32_t r) {
  * ties. */
 static int event_exact(sweep *w, uint32_t r, const double **v) {
     const evrec *e = &w->recs[r];
-    double *c = w->cache + 6 * (size_t)r;
+    double *c = side_of(w, r);
     if (!(w->known[r] & KNOWN_EXACT)) {
         w->known[r] |= KNOWN_EXACT;
         const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
@@ -1785,8 +1823,7 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
  * exactly (KNOWN_TOP): by top, then by the centres' x, then (one point)
  * by record index. */
 static int top_before(sweep *w, uint32_t r1, uint32_t r2) {
-    const double *c1 = w->cache + 6 * (size_t)r1,
-                 *c2 = w->cache + 6 * (size_t)r2;
+    const double *c1 = side_of(w, r1), *c2 = side_of(w, r2);
     if (c1[0] != c2[0]) return c1[0] < c2[0];
     if (c1[1] != c2[1]) return c1[1] < c2[1];
     if (c1[3] != c2[3]) return c1[3] < c2[3];
@@ -1804,10 +1841,10 @@ static const double *event_box(sweep *w, uint32_t r) {
         const uint32_t *t = w->recs[r].s;
         w->known[r] |= KNOWN_BOX;
         if (vor__fortune_box_of(site_xy(w, t[0]), site_xy(w, t[1]),
-                                site_xy(w, t[2]), w->boxes + 4 * (size_t)r))
+                                site_xy(w, t[2]), side_of(w, r) + SIDE_BOX))
             w->known[r] |= IS_BOX;
     }
-    return w->known[r] & IS_BOX ? w->boxes + 4 * (size_t)r : NULL;
+    return w->known[r] & IS_BOX ? side_of(w, r) + SIDE_BOX : NULL;
 }
 
 /* Record r's shape (vor__fortune_shape_of), or NULL if its triple has
@@ -1816,7 +1853,7 @@ static const double *event_box(sweep *w, uint32_t r) {
  * records of one shape, or of one shape and its mirror image, compare
  * without reading a site (shape_try). */
 static const double *event_shape(sweep *w, uint32_t r) {
-    double *v = w->shapes + VOR__FORTUNE_SHAPE * (size_t)r;
+    double *v = side_of(w, r) + SIDE_SHAPE;
     if (!(w->known[r] & KNOWN_SHAPE)) {
         w->known[r] |= KNOWN_SHAPE;
         const uint32_t *t = w->recs[r].s;
@@ -1923,7 +1960,7 @@ static inline int at_rounding(const event *e) {
  * are few where they do not crowd, and storing them with every event cost
  * uniform sites 2% more instructions. */
 static const double *event_off(sweep *w, uint32_t r) {
-    double *o = w->offs + 3 * (size_t)r;
+    double *o = side_of(w, r) + SIDE_OFF;
     if (!(w->known[r] & KNOWN_OFF)) {
         w->known[r] |= KNOWN_OFF;
         const uint32_t *t = w->recs[r].s;
@@ -2031,15 +2068,14 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
          * the calls of ev_tie and its reads of six sites (a grid's
          * cells of one row meet again and again in the heap: 10^5 sites
          * on a grid took a tenth longer) */
-        const double *e1 = w->cache + 6 * (size_t)x->rec + 3,
-                     *e2 = w->cache + 6 * (size_t)y->rec + 3;
+        const double *e1 = side_of(w, x->rec) + 3,
+                     *e2 = side_of(w, y->rec) + 3;
         if (e1[2] >= 0 && same_top(w, e1, e2, x->rec, y->rec, &c)) return c;
         if (k & KNOWN_TOP) return top_before(w, x->rec, y->rec);
     } else if (!w->lattice && (k & KNOWN_DD)) {
         /* both bounds known: decide here, without the calls of ev_tie
          * (sites on a circle make nearly every comparison come here) */
-        const double *d1 = w->cache + 6 * (size_t)x->rec,
-                     *d2 = w->cache + 6 * (size_t)y->rec;
+        const double *d1 = side_of(w, x->rec), *d2 = side_of(w, y->rec);
         if (d1[2] >= 0 && d2[2] >= 0) {
             c = vor__fortune_dd_cmp(d1[0], d1[1], d1[2], d2[0], d2[1], d2[2]);
             if (c != 0) return c < 0;
@@ -2550,7 +2586,7 @@ static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
     rec->s[0] = ARC(ARC(b).prev).site;
     rec->s[1] = ARC(b).site;
     rec->s[2] = ARC(ARC(b).next).site;
-    w->known[r] = 0; /* nothing known about ties yet */
+    w->known[r] &= HAS_SLOT; /* nothing known about ties yet */
 }
 
 /* Narrows record r's interval [*lo, *hi] by its double-double bounds when
@@ -2941,7 +2977,7 @@ static void sweep_free(sweep *w) {
     free(w->arcs_block);
     free(w->red);
     free(w->rec_block);
-    free(w->cache);
+    free(w->side);
     vor__scratch_free(w->bhead);
     free(w->nhead);
     free(w->nmap.block);
@@ -3074,6 +3110,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.n_arcs = 1;
     w.free_arcs = NIL;
     w.free_recs = NO_EVENT;
+    w.free_slot = NO_EVENT;
     w.spill_at = SPILL_MIN;
 
     uint32_t first;
