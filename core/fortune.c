@@ -28,8 +28,9 @@
  *     An arc stores the edge record of the breakpoint to its right.
  *   - Circle events: live events only, at most one per arc, each an
  *     interval for the event's y and a record index; the record holds the
- *     arc and the triple of sites, and dense arrays beside it the queue
- *     position and what is known for tie-breaking. An event is replaced in
+ *     event, the triple of sites, the queue position and which parts of
+ *     what ties taught are known (those parts themselves are in a side
+ *     slot, taken by the few records that meet ties). An event is replaced in
  *     the queue as soon as its triple changes, so no stale event is ever
  *     popped. (Lazy deletion was measured: the queue grows eightfold with
  *     cancelled far-future events.) The queue is a set of buckets by the
@@ -143,15 +144,22 @@ typedef struct event {
     uint32_t rec, arc;
 } event;
 
-/* An event record: alive while its event is in the queue. (Its queue
- * position is kept apart, in sweep.hpos: the heap's moves write it at every
- * level, and a dense array keeps those writes in few cache lines. A freed
- * record's hpos links the free list.) The arc it removes is its queue
- * entry's; the circle event itself reads the triple off the beach line,
- * so that the record's line is not a miss of every event (17% of the
- * sweep loop's samples for 10^6 sites on a circle). */
+/* An event record: alive while its event is in the queue. Its fields sit
+ * together, and records are taken from the first on, so that the pages
+ * they touch are one prefix of their block: kept in six arrays, each
+ * array's prefix was mapped 2 MiB at a time under the block's advice
+ * for huge pages, and 10^5 sites on a star peaked 78 bytes a site
+ * higher (see recs_resize). The arc it removes is its key's; the circle
+ * event itself reads the triple off the beach line. A freed record's
+ * hpos links the free list. */
 typedef struct evrec {
-    uint32_t s[3]; /* its triple, left to right (sorted site indices) */
+    event key;        /* its event (buckets and late[]) */
+    uint32_t s[3];    /* its triple, left to right (sorted site indices) */
+    uint32_t link[2]; /* previous and next in its bucket */
+    uint32_t hpos;    /* heap position, or bucket, or LATE and its place
+                       * in late[] */
+    uint32_t slot;    /* its side slot, if known has HAS_SLOT */
+    uint16_t known;   /* which parts of its slot are filled (side_of) */
 } evrec;
 
 /* Estimated sweep rank of a y (see "Sweep rank of a y"): a table of
@@ -233,25 +241,18 @@ typedef struct sweep {
     uint32_t *nhead;
     uint32_t n_near, near_cur, n_nearq, spill_at;
     ymap nmap;
-    event *ekey;       /* per record: its event (buckets and late[]) */
-    uint32_t *blink;   /* per record: previous and next in its bucket */
-    evrec *recs;
-    uint32_t *hpos; /* per live record: heap position, or bucket, or LATE
-                     * and its place in late[] */
-    uint32_t *late; /* the events after the last site, unordered (ekey) */
+    evrec *rr; /* cap_recs records */
+    uint32_t *late; /* the events after the last site, unordered (key) */
     uint32_t n_late;
     int late_ok;    /* sites remain: a new event may wait in late[] */
     double ylast;   /* the last site's y */
-    /* What the tie-breaking stages know about a record's event lives in
-     * a side slot of SIDE_DOUBLES (see side_of), taken on first use. */
-    uint32_t *slot;  /* per record: its side slot, if HAS_SLOT */
-    uint16_t *known; /* per record: which parts of its slot are filled */
+    /* what the tie-breaking stages know about a record's event lives in
+     * a side slot of SIDE_DOUBLES (see side_of), taken on first use */
     double *side; /* cap_recs slots, filled in order; the block of heap
                    * and late[] too (recs_resize) */
     uint32_t n_slots;   /* slots handed out so far */
     uint32_t free_slot; /* list of freed slots, NO_EVENT if none */
     uint32_t n_recs, cap_recs;
-    void *rec_block; /* the block of the arrays every event writes */
     uint32_t free_recs; /* list of freed records through hpos */
 
     /* Edge records: the half-edge of an edge's first end, or NO_END. A
@@ -1642,74 +1643,56 @@ static void slot_free(sweep *w, uint32_t k) {
 
 /* Record r's side slot, taken if it has none. */
 static inline double *side_of(sweep *w, uint32_t r) {
-    if (!(w->known[r] & HAS_SLOT)) {
+    if (!(w->rr[r].known & HAS_SLOT)) {
         uint32_t k = w->free_slot;
         if (k != NO_EVENT)
             memcpy(&w->free_slot, slot_at(w, k), sizeof w->free_slot);
         else
             k = w->n_slots++;
-        w->slot[r] = k;
-        w->known[r] |= HAS_SLOT;
+        w->rr[r].slot = k;
+        w->rr[r].known |= HAS_SLOT;
     }
-    return slot_at(w, w->slot[r]);
+    return slot_at(w, w->rr[r].slot);
 }
 
-/* Gives the per-record arrays room for cap records, keeping the n_recs
- * records there are, in two allocations: one for the arrays that every
- * event writes, one for those whose use varies (the side slots, see
- * side_of; the heap, which the buckets keep short; late[], which holds
- * the events past the last site: up to one a site on a parabola, a few
- * on most inputs). -1 if out of memory, with nothing changed. The second
- * block is apart because the first's advice for huge pages
- * (vor__alloc_large) maps 2 MiB at a time, however little of an array is
- * used: with the heap and late[] in it, 10^5 sites on a circle peaked at
- * 361 bytes a site instead of 345, on a polygon 362 instead of 339
- * (medians of 5 runs). */
+/* Gives the records room for cap of them, keeping the n_recs there are,
+ * in two allocations: one of the records, one of what varies in use
+ * (the side slots, see side_of; the heap, which the buckets keep short;
+ * late[], which holds the events past the last site: up to one a site on
+ * a parabola, a few on most inputs). -1 if out of memory, with nothing
+ * changed. The first block's advice for huge pages (vor__alloc_large)
+ * maps 2 MiB at a time, however little of an array is used, so that
+ * only what is used from its start on is in it. Peak bytes a site at
+ * 10^5 sites, medians of 3 runs, with a record's fields in six arrays
+ * (each array's used prefix rounded up to 2 MiB) and with one array of
+ * records: a circle 345 -> 304, a polygon 349 -> 304, a star 254 -> 176,
+ * a geometric line 307 -> 282; with the heap and late[] in that block
+ * too, the circle had peaked at 361. */
 static int recs_resize(sweep *w, uint32_t cap) {
     size_t c = cap, k = w->n_recs;
-    /* widest alignment first */
-    size_t bytes = c * (sizeof(event) + sizeof(evrec) +
-                        5 * sizeof(uint32_t) + sizeof(uint16_t));
-    char *p = vor__alloc_large(bytes, 1);
+    evrec *rr = vor__alloc_large(c, sizeof *rr);
     char *q = malloc(c * (SIDE_DOUBLES * sizeof(double) + sizeof(event) +
                           sizeof(uint32_t)));
-    if (!p || !q) {
-        free(p);
+    if (!rr || !q) {
+        free(rr);
         free(q);
         return -1;
     }
-    event *ekey = (event *)(void *)p;
-    evrec *recs = (evrec *)(ekey + c);
-    uint32_t *blink = (uint32_t *)(recs + c);
-    uint32_t *hpos = blink + 2 * c;
-    uint32_t *slot = hpos + c;
-    uint16_t *known = (uint16_t *)(void *)(slot + c);
     double *side = (double *)(void *)q;
     event *heap = (event *)(void *)(side + SIDE_DOUBLES * c);
     uint32_t *late = (uint32_t *)(void *)(heap + c);
     if (k) {
+        memcpy(rr, w->rr, k * sizeof *rr);
         memcpy(heap, w->heap, w->n_heap * sizeof *heap);
-        memcpy(ekey, w->ekey, k * sizeof *ekey);
-        memcpy(recs, w->recs, k * sizeof *recs);
-        memcpy(blink, w->blink, 2 * k * sizeof *blink);
-        memcpy(hpos, w->hpos, k * sizeof *hpos);
         memcpy(late, w->late, w->n_late * sizeof *late);
-        memcpy(slot, w->slot, k * sizeof *slot);
-        memcpy(known, w->known, k * sizeof *known);
         memcpy(side, w->side, w->n_slots * SIDE_DOUBLES * sizeof *side);
     }
-    free(w->rec_block);
+    free(w->rr);
     free(w->side);
-    w->rec_block = p;
+    w->rr = rr;
     w->side = side;
     w->heap = heap;
-    w->ekey = ekey;
-    w->recs = recs;
-    w->blink = blink;
-    w->hpos = hpos;
     w->late = late;
-    w->slot = slot;
-    w->known = known;
     w->cap_recs = cap;
     return 0;
 }
@@ -1720,21 +1703,21 @@ static uint32_t rec_new(sweep *w) {
     uint32_t r;
     if (w->free_recs != NO_EVENT) {
         r = w->free_recs;
-        w->free_recs = w->hpos[r];
+        w->free_recs = w->rr[r].hpos;
         return r;
     }
     if (w->n_recs == w->cap_recs) {
         if (w->cap_recs > UINT32_MAX / 4) return NO_EVENT;
         if (recs_resize(w, 2 * w->cap_recs)) return NO_EVENT;
     }
-    w->known[w->n_recs] = 0;
+    w->rr[w->n_recs].known = 0;
     return w->n_recs++;
 }
 
 static void rec_free(sweep *w, uint32_t r) {
-    if (w->known[r] & HAS_SLOT) slot_free(w, w->slot[r]);
-    w->known[r] = 0;
-    w->hpos[r] = w->free_recs;
+    if (w->rr[r].known & HAS_SLOT) slot_free(w, w->rr[r].slot);
+    w->rr[r].known = 0;
+    w->rr[r].hpos = w->free_recs;
     w->free_recs = r;
 }
 
@@ -1766,10 +1749,10 @@ static void tight_top(const double *a, const double *b, const double *c,
 }
 
 static int event_dd(sweep *w, uint32_t r, const double **v) {
-    const evrec *e = &w->recs[r];
+    const evrec *e = &w->rr[r];
     double *c = side_of(w, r);
-    if (!(w->known[r] & KNOWN_DD)) {
-        w->known[r] |= KNOWN_DD;
+    if (!(w->rr[r].known & KNOWN_DD)) {
+        w->rr[r].known |= KNOWN_DD;
         const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
                      *d = site_xy(w, e->s[2]);
         if (!w->safe)
@@ -1786,11 +1769,11 @@ static int event_dd(sweep *w, uint32_t r, const double **v) {
  * exact integers: computed once, and only for events whose bounds failed
  * to order them): 1 if they changed. */
 static int event_offset(sweep *w, uint32_t r) {
-    if (w->known[r] & KNOWN_OFFSET) return 0;
-    w->known[r] |= KNOWN_OFFSET;
+    if (w->rr[r].known & KNOWN_OFFSET) return 0;
+    w->rr[r].known |= KNOWN_OFFSET;
     const double *d;
     int had = event_dd(w, r, &d);
-    const uint32_t *t = w->recs[r].s;
+    const uint32_t *t = w->rr[r].s;
     double v[3];
     if (!vor__fortune_circle_offset(site_xy(w, t[0]), site_xy(w, t[1]),
                                     site_xy(w, t[2]), &v[0], &v[1], &v[2]) ||
@@ -1808,10 +1791,10 @@ static int event_offset(sweep *w, uint32_t r) {
  * 105 k exact comparisons of 10^5 integer pixels), and so did their
  * ties. */
 static int event_exact(sweep *w, uint32_t r, const double **v) {
-    const evrec *e = &w->recs[r];
+    const evrec *e = &w->rr[r];
     double *c = side_of(w, r);
-    if (!(w->known[r] & KNOWN_EXACT)) {
-        w->known[r] |= KNOWN_EXACT;
+    if (!(w->rr[r].known & KNOWN_EXACT)) {
+        w->rr[r].known |= KNOWN_EXACT;
         const double *a = site_xy(w, e->s[0]), *b = site_xy(w, e->s[1]),
                      *d = site_xy(w, e->s[2]);
         if (!(w->small ? vor__fortune_circle_exact_small(a, b, d, c + 3)
@@ -1819,7 +1802,7 @@ static int event_exact(sweep *w, uint32_t r, const double **v) {
             c[5] = -1;
         else if (w->safe && vor__fortune_exact_top(c + 3, &c[0], &c[1])) {
             c[2] = 0;
-            w->known[r] |= KNOWN_DD | KNOWN_TOP;
+            w->rr[r].known |= KNOWN_DD | KNOWN_TOP;
         }
     }
     *v = c + 3;
@@ -1844,14 +1827,14 @@ static int top_before(sweep *w, uint32_t r1, uint32_t r2) {
  * holes: 2.7 M comparisons of 200 k events at 10^5 sites), and reading
  * the triple's three points for each was a sixth of the run. */
 static const double *event_box(sweep *w, uint32_t r) {
-    if (!(w->known[r] & KNOWN_BOX)) {
-        const uint32_t *t = w->recs[r].s;
-        w->known[r] |= KNOWN_BOX;
+    if (!(w->rr[r].known & KNOWN_BOX)) {
+        const uint32_t *t = w->rr[r].s;
+        w->rr[r].known |= KNOWN_BOX;
         if (vor__fortune_box_of(site_xy(w, t[0]), site_xy(w, t[1]),
                                 site_xy(w, t[2]), side_of(w, r) + SIDE_BOX))
-            w->known[r] |= IS_BOX;
+            w->rr[r].known |= IS_BOX;
     }
-    return w->known[r] & IS_BOX ? side_of(w, r) + SIDE_BOX : NULL;
+    return w->rr[r].known & IS_BOX ? side_of(w, r) + SIDE_BOX : NULL;
 }
 
 /* Record r's shape (vor__fortune_shape_of), or NULL if its triple has
@@ -1861,14 +1844,14 @@ static const double *event_box(sweep *w, uint32_t r) {
  * without reading a site (shape_try). */
 static const double *event_shape(sweep *w, uint32_t r) {
     double *v = side_of(w, r) + SIDE_SHAPE;
-    if (!(w->known[r] & KNOWN_SHAPE)) {
-        w->known[r] |= KNOWN_SHAPE;
-        const uint32_t *t = w->recs[r].s;
+    if (!(w->rr[r].known & KNOWN_SHAPE)) {
+        w->rr[r].known |= KNOWN_SHAPE;
+        const uint32_t *t = w->rr[r].s;
         if (vor__fortune_shape_of(site_xy(w, t[0]), site_xy(w, t[1]),
                                   site_xy(w, t[2]), v))
-            w->known[r] |= HAS_SHAPE;
+            w->rr[r].known |= HAS_SHAPE;
     }
-    return w->known[r] & HAS_SHAPE ? v : NULL;
+    return w->rr[r].known & HAS_SHAPE ? v : NULL;
 }
 
 /* The shapes' comparison of events r1, r2 (vor__fortune_shapes_cmp). */
@@ -1968,9 +1951,9 @@ static inline int at_rounding(const event *e) {
  * uniform sites 2% more instructions. */
 static const double *event_off(sweep *w, uint32_t r) {
     double *o = side_of(w, r) + SIDE_OFF;
-    if (!(w->known[r] & KNOWN_OFF)) {
-        w->known[r] |= KNOWN_OFF;
-        const uint32_t *t = w->recs[r].s;
+    if (!(w->rr[r].known & KNOWN_OFF)) {
+        w->rr[r].known |= KNOWN_OFF;
+        const uint32_t *t = w->rr[r].s;
         const double *a = site_xy(w, t[0]);
         double lo, hi;
         o[0] = a[1];
@@ -1999,7 +1982,7 @@ static inline int off_before(sweep *w, uint32_t r1, uint32_t r2,
  * the same point are ordered by record index (any fixed order would do). */
 static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     const double *e1, *e2, *d1, *d2;
-    const uint32_t *t1 = w->recs[r1].s, *t2 = w->recs[r2].s;
+    const uint32_t *t1 = w->rr[r1].s, *t2 = w->rr[r2].s;
     const double *a1 = site_xy(w, t1[0]), *b1 = site_xy(w, t1[1]),
                  *c1 = site_xy(w, t1[2]);
     const double *a2 = site_xy(w, t2[0]), *b2 = site_xy(w, t2[1]),
@@ -2025,7 +2008,8 @@ static int ev_tie(sweep *w, uint32_t r1, uint32_t r2) {
     if (event_exact(w, r1, &e1) && event_exact(w, r2, &e2) &&
         same_top(w, e1, e2, r1, r2, &c))
         return c;
-    if (w->known[r1] & w->known[r2] & KNOWN_TOP) return top_before(w, r1, r2);
+    if (w->rr[r1].known & w->rr[r2].known & KNOWN_TOP)
+        return top_before(w, r1, r2);
     if (box == 0 && box_cmp(w, r1, r2, &c))
         goto decided;
     if (vor__fortune_translate_cmp(a1, b1, c1, a2, b2, c2, w->safe,
@@ -2068,7 +2052,7 @@ static inline int ev_before(sweep *w, const event *x, const event *y) {
     w->cnt.event_compares++;
     if (x->hi < y->lo) return 1;
     if (y->hi < x->lo) return 0;
-    uint16_t k = w->known[x->rec] & w->known[y->rec];
+    uint16_t k = w->rr[x->rec].known & w->rr[y->rec].known;
     int c;
     if (w->lattice && (k & KNOWN_EXACT)) {
         /* both circles known exactly: equal ones decide here, without
@@ -2110,7 +2094,7 @@ static inline uint32_t earlier_child(sweep *w, uint32_t c) {
 
 static inline void heap_put(sweep *w, uint32_t pos, event e) {
     w->heap[pos] = e;
-    w->hpos[e.rec] = pos;
+    w->rr[e.rec].hpos = pos;
 }
 
 static void sift_up(sweep *w, uint32_t pos, event e) {
@@ -2212,7 +2196,7 @@ static inline uint32_t ev_bucket(const sweep *w, double lo) {
  * holds its bucket or LATE and its place in late[], never a heap
  * position that holds r). */
 static inline int in_heap(const sweep *w, uint32_t r) {
-    uint32_t p = w->hpos[r];
+    uint32_t p = w->rr[r].hpos;
     return p < w->n_heap && w->heap[p].rec == r;
 }
 
@@ -2220,10 +2204,10 @@ static inline int in_heap(const sweep *w, uint32_t r) {
 static inline void list_link(sweep *w, uint32_t r, uint32_t *head,
                              uint32_t k) {
     uint32_t h = *head;
-    w->hpos[r] = k;
-    w->blink[2 * r] = NO_EVENT;
-    w->blink[2 * r + 1] = h;
-    if (h != NO_EVENT) w->blink[2 * h] = r;
+    w->rr[r].hpos = k;
+    w->rr[r].link[0] = NO_EVENT;
+    w->rr[r].link[1] = h;
+    if (h != NO_EVENT) w->rr[h].link[0] = r;
     *head = r;
 }
 
@@ -2241,14 +2225,14 @@ static void near_link(sweep *w, uint32_t r, uint32_t k) {
 }
 
 static void bucket_unlink(sweep *w, uint32_t r) {
-    uint32_t p = w->blink[2 * r], q = w->blink[2 * r + 1], k = w->hpos[r];
+    uint32_t p = w->rr[r].link[0], q = w->rr[r].link[1], k = w->rr[r].hpos;
     if (p != NO_EVENT)
-        w->blink[2 * p + 1] = q;
+        w->rr[p].link[1] = q;
     else if (k < w->n_buckets)
         w->bhead[k] = q;
     else
         w->nhead[k - w->n_buckets] = q;
-    if (q != NO_EVENT) w->blink[2 * q] = p;
+    if (q != NO_EVENT) w->rr[q].link[0] = p;
     if (k < w->n_buckets)
         w->n_bucketed--;
     else
@@ -2262,8 +2246,8 @@ static void bucket_unlink(sweep *w, uint32_t r) {
 static inline __attribute__((always_inline)) void
 pour_list(sweep *w, uint32_t r, uint32_t *count) {
     uint32_t n0 = w->n_heap;
-    for (; r != NO_EVENT; r = w->blink[2 * r + 1])
-        heap_put(w, w->n_heap++, w->ekey[r]);
+    for (; r != NO_EVENT; r = w->rr[r].link[1])
+        heap_put(w, w->n_heap++, w->rr[r].key);
     *count -= w->n_heap - n0;
     if (w->n_heap - n0 > n0) {
         for (uint32_t i = w->n_heap / 2; i-- > 0;) sift_down(w, i, w->heap[i]);
@@ -2341,7 +2325,7 @@ static void spill(sweep *w) {
     w->n_nearq = 0;
     for (uint32_t j = 0; j < m; j++) {
         event e = w->heap[j];
-        w->ekey[e.rec] = e;
+        w->rr[e.rec].key = e;
         near_link(w, e.rec, ymap_rank(&nm, e.lo));
     }
     w->n_heap = 0;
@@ -2436,14 +2420,14 @@ static vor_status refit(sweep *w) {
         w->n_buckets = (uint32_t)m;
     }
     for (uint32_t b = w->cur; w->n_bucketed; b++) {
-        for (uint32_t r = w->bhead[b]; r != NO_EVENT; r = w->blink[2 * r + 1]) {
+        for (uint32_t r = w->bhead[b]; r != NO_EVENT; r = w->rr[r].link[1]) {
             a[k++].i = r;
             w->n_bucketed--;
         }
         w->bhead[b] = NO_EVENT;
     }
     for (uint32_t j = 0; j < w->n_heap; j++) {
-        w->ekey[w->heap[j].rec] = w->heap[j];
+        w->rr[w->heap[j].rec].key = w->heap[j];
         a[k++].i = w->heap[j].rec;
     }
     for (uint32_t j = 0; j < w->n_late; j++) a[k++].i = w->late[j];
@@ -2452,7 +2436,7 @@ static vor_status refit(sweep *w) {
     w->late_ok = 0;
     uint64_t kmin = UINT64_MAX, kmax = 0;
     for (size_t j = 0; j < m; j++) {
-        uint64_t key = dkey(w->ekey[a[j].i].lo + 0.0);
+        uint64_t key = dkey(w->rr[a[j].i].key.lo + 0.0);
         a[j].k = key;
         kmin = key < kmin ? key : kmin;
         kmax = key > kmax ? key : kmax;
@@ -2468,7 +2452,7 @@ static vor_status refit(sweep *w) {
      * map either way */
     w->cur = 0;
     for (size_t j = 0; j < m; j++)
-        bucket_link(w, a[j].i, ev_bucket(w, w->ekey[a[j].i].lo));
+        bucket_link(w, a[j].i, ev_bucket(w, w->rr[a[j].i].key.lo));
     free(a);
     return st;
 }
@@ -2478,15 +2462,15 @@ static inline int late_event(const sweep *w, const event *e) {
 }
 
 static void late_put(sweep *w, event e) {
-    w->ekey[e.rec] = e;
-    w->hpos[e.rec] = LATE | w->n_late;
+    w->rr[e.rec].key = e;
+    w->rr[e.rec].hpos = LATE | w->n_late;
     w->late[w->n_late++] = e.rec;
 }
 
 static void late_remove(sweep *w, uint32_t r) {
-    uint32_t k = w->hpos[r] & ~LATE, m = w->late[--w->n_late];
+    uint32_t k = w->rr[r].hpos & ~LATE, m = w->late[--w->n_late];
     w->late[k] = m;
-    w->hpos[m] = LATE | k;
+    w->rr[m].hpos = LATE | k;
 }
 
 /* Adds event e, whose record holds nothing in the queue, to the heap or
@@ -2495,12 +2479,12 @@ static void q_put(sweep *w, event e) {
     if (w->bhead) {
         uint32_t k = ev_bucket(w, e.lo);
         if (k >= w->cur) {
-            w->ekey[e.rec] = e;
+            w->rr[e.rec].key = e;
             bucket_link(w, e.rec, k);
             return;
         }
         if (w->nhead && (k = ymap_rank(&w->nmap, e.lo)) >= w->near_cur) {
-            w->ekey[e.rec] = e;
+            w->rr[e.rec].key = e;
             near_link(w, e.rec, k);
             return;
         }
@@ -2513,7 +2497,7 @@ static void q_put(sweep *w, event e) {
  * buckets (the last, under the sites' map) or the heap. */
 static void late_flush(sweep *w) {
     w->late_ok = 0;
-    for (uint32_t j = 0; j < w->n_late; j++) q_put(w, w->ekey[w->late[j]]);
+    for (uint32_t j = 0; j < w->n_late; j++) q_put(w, w->rr[w->late[j]].key);
     w->n_late = 0;
 }
 
@@ -2538,10 +2522,10 @@ static void q_insert(sweep *w, event e) {
 
 /* Removes record r's event. */
 static void q_remove(sweep *w, uint32_t r) {
-    if (w->hpos[r] & LATE)
+    if (w->rr[r].hpos & LATE)
         late_remove(w, r);
     else if (!w->bhead || in_heap(w, r))
-        heap_remove(w, w->hpos[r]);
+        heap_remove(w, w->rr[r].hpos);
     else
         bucket_unlink(w, r);
 }
@@ -2550,13 +2534,13 @@ static void q_remove(sweep *w, uint32_t r) {
  * its place (cheaper than a removal and an insertion), wherever its new
  * interval would put it. */
 static void q_update(sweep *w, event e) {
-    if ((w->hpos[e.rec] & LATE) || late_event(w, &e) ||
+    if ((w->rr[e.rec].hpos & LATE) || late_event(w, &e) ||
         (w->bhead && !in_heap(w, e.rec))) {
         q_remove(w, e.rec);
         q_insert(w, e);
         return;
     }
-    uint32_t pos = w->hpos[e.rec];
+    uint32_t pos = w->rr[e.rec].hpos;
     if (pos > 0 && ev_before(w, &e, &w->heap[(pos - 1) / 2]))
         sift_up(w, pos, e);
     else
@@ -2589,11 +2573,11 @@ static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
 
 /* Fills record r for arc b's current triple. */
 static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
-    evrec *rec = &w->recs[r];
+    evrec *rec = &w->rr[r];
     rec->s[0] = ARC(ARC(b).prev).site;
     rec->s[1] = ARC(b).site;
     rec->s[2] = ARC(ARC(b).next).site;
-    w->known[r] &= HAS_SLOT; /* nothing known about ties yet */
+    w->rr[r].known &= HAS_SLOT; /* nothing known about ties yet */
 }
 
 /* Narrows record r's interval [*lo, *hi] by its double-double bounds when
@@ -2649,7 +2633,7 @@ static vor_status add_event(sweep *w, uint32_t b) {
     narrow(w, r, &lo, &hi);
     q_insert(w, (event){lo, hi, r, b});
     ARC(b).ev = r;
-    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->rr[r].s);
     return VOR_OK;
 }
 
@@ -2660,7 +2644,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     uint32_t r = ARC(b).ev;
     if (r == NO_EVENT) return add_event(w, b);
     w->cnt.false_alarms++; /* the old triple's event will not happen */
-    if (w->tracing) trace_event(w, VOR_STEP_CANCEL, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_CANCEL, w->rr[r].s);
     double lo, hi;
     if (!event_of(w, b, &lo, &hi)) {
         drop_event(w, b);
@@ -2670,7 +2654,7 @@ static vor_status renew_event(sweep *w, uint32_t b) {
     rec_fill(w, r, b);
     narrow(w, r, &lo, &hi);
     q_update(w, (event){lo, hi, r, b});
-    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->recs[r].s);
+    if (w->tracing) trace_event(w, VOR_STEP_SCHEDULE, w->rr[r].s);
     return VOR_OK;
 }
 
@@ -2852,16 +2836,16 @@ static int event_first(sweep *w, const double *p) {
     int f = -1;
     if (event_dd(w, r, &d)) {
         int c = vor__fortune_dd_cmp(p[1], 0, 0, d[0], d[1], d[2]);
-        if (c == 0 && (w->lattice ? !(w->known[r] & KNOWN_EXACT) &&
+        if (c == 0 && (w->lattice ? !(w->rr[r].known & KNOWN_EXACT) &&
                                         event_exact(w, r, &x) &&
-                                        (w->known[r] & KNOWN_TOP)
+                                        (w->rr[r].known & KNOWN_TOP)
                                   : event_offset(w, r)))
             c = vor__fortune_dd_cmp(p[1], 0, 0, d[0], d[1], d[2]);
         if (c != 0) return c > 0;
         /* a top exactly at p's y: the site first iff left of the centre */
-        if (w->known[r] & KNOWN_TOP) f = p[0] < d[3];
+        if (w->rr[r].known & KNOWN_TOP) f = p[0] < d[3];
     }
-    if (f < 0) f = site_before(w, p, w->recs[r].s);
+    if (f < 0) f = site_before(w, p, w->rr[r].s);
     if (f && w->late_ok && p[1] == w->ylast) {
         /* p is on the last row of sites, yet the event's interval reaches
          * below it: unless moved, the event stays the earliest, and every
@@ -2870,7 +2854,7 @@ static int event_first(sweep *w, const double *p) {
          * site too, it waits in late[] (O(1)) with those after the last
          * site. */
         const double *q = site_xy(w, (uint32_t)w->n - 1);
-        if (q == p || site_before(w, q, w->recs[r].s)) {
+        if (q == p || site_before(w, q, w->rr[r].s)) {
             event moved = *e;
             q_remove(w, r);
             late_put(w, moved);
@@ -2961,9 +2945,9 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
             const event *e = i == n ? q_top(w) : &w->heap[0];
             uint32_t b = e->arc;
             double lo = e->lo, hi = e->hi;
-            assert(w->recs[e->rec].s[1] == ARC(b).site &&
-                   w->recs[e->rec].s[0] == ARC(ARC(b).prev).site &&
-                   w->recs[e->rec].s[2] == ARC(ARC(b).next).site);
+            assert(w->rr[e->rec].s[1] == ARC(b).site &&
+                   w->rr[e->rec].s[0] == ARC(ARC(b).prev).site &&
+                   w->rr[e->rec].s[2] == ARC(ARC(b).next).site);
             if (w->n_heap > 2) {
                 /* the next event is most often one of the top's
                  * children: its arc and neighbours will be read */
@@ -2992,7 +2976,7 @@ static void sweep_free(sweep *w) {
     free(w->orig);
     free(w->arcs_block);
     free(w->red);
-    free(w->rec_block);
+    free(w->rr);
     free(w->side);
     vor__scratch_free(w->bhead);
     free(w->nhead);
