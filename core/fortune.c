@@ -1593,7 +1593,7 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
 /* ---- Event records and the heap ------------------------------------------ */
 
 /* What the tie-breaking stages know about record r's event, computed on
- * first use and kept in its side slot (side_of), known[r] saying which
+ * first use and kept in its side slot (side_of), its known saying which
  * parts are filled:
  * c[0..2] the double-double bounds (hi, lo, err; err < 0 if unavailable;
  * outside the safe range, tight_top's) (KNOWN_DD),
@@ -1611,7 +1611,7 @@ enum {
     KNOWN_SHAPE = 64, /* the record's shape filled, if HAS_SHAPE (event_shape) */
     HAS_SHAPE = 128,
     KNOWN_OFF = 256, /* its offs filled (event_off) */
-    HAS_SLOT = 512   /* slot[r] is its side slot */
+    HAS_SLOT = 512   /* rr[r].slot is its side slot */
 };
 
 #define SIDE_BOX 6
