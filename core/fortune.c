@@ -1599,7 +1599,9 @@ VOR__COLD static vor_status trace_circle(sweep *w, uint32_t left, uint32_t a,
  * outside the safe range, tight_top's) (KNOWN_DD),
  * c[3..5] the circle exactly in doubles (x, y, r^2; r^2 < 0 if not
  * exact) (KNOWN_EXACT),
- * c[6..9] its box (event_box), c[10..12] its offs (event_off),
+ * c[6..9] its box (event_box),
+ * c[10..12] its offs: the y of the triple's left site, the top's height
+ * above it and that height's error bound (event_off),
  * c[13..24] its shape (event_shape). */
 enum {
     KNOWN_DD = 1,
@@ -1608,7 +1610,7 @@ enum {
     IS_BOX = 8,
     KNOWN_OFFSET = 16,
     KNOWN_TOP = 32, /* c[0..1] hold the top exactly, c[2] = 0 */
-    KNOWN_SHAPE = 64, /* the record's shape filled, if HAS_SHAPE (event_shape) */
+    KNOWN_SHAPE = 64, /* its shape filled, if HAS_SHAPE (event_shape) */
     HAS_SHAPE = 128,
     KNOWN_OFF = 256, /* its offs filled (event_off) */
     HAS_SLOT = 512   /* rr[r].slot is its side slot */

@@ -75,12 +75,12 @@ void vor__bbox(const double *xy, size_t n, double box[4]);
  * malloc(count * size) (NULL on overflow or failure; free with free();
  * never NULL for a count of 0 that succeeded, so that every array of a
  * successful diagram is non-NULL) for the big arrays of the sites, the
- * order, the mesh, the sweep and the diagram. A block of 4 MiB or more is advised to the kernel as a
- * candidate for huge pages (Linux's MADV_HUGEPAGE, where available; a
- * hint, errors ignored; only the whole 2 MiB pages inside it): a cold run
- * at 10^6 sites touches about 280 bytes a site for the first time, and
- * at 10^6 sites nearly every visit of the mesh misses the TLB with 4 KiB
- * pages.
+ * order, the mesh, the sweep and the diagram. A block of 4 MiB or more
+ * is advised to the kernel as a candidate for huge pages (Linux's
+ * MADV_HUGEPAGE, where available; a hint, errors ignored; only the whole
+ * 2 MiB pages inside it): a cold run at 10^6 sites touches about 280
+ * bytes a site for the first time, and at 10^6 sites nearly every visit
+ * of the mesh misses the TLB with 4 KiB pages.
  *
  * What a first touch costs depends on the host. On a virtual machine
  * whose guest page faults are dear (a PVM guest: 10.6 us for every 4 KiB
@@ -92,7 +92,7 @@ void vor__bbox(const double *xy, size_t n, double box[4]);
  * made cold runs a quarter slower than advising only the mesh. Where
  * faults cost anything, one for 2 MiB beats 512 for 4 KiB each; the
  * advice is for every big array that is written densely (Fortune keeps
- * its sparse ones apart, see recs_resize). */
+ * what it writes sparsely apart, see recs_resize). */
 void *vor__alloc_large(size_t count, size_t size);
 /* The same for an array whose first writes land at random (the
  * conversion's records and cell offsets, written in site order from a
