@@ -23,9 +23,10 @@
  *   - Beach line: arcs in a flat pool (index 0 is the nil sentinel, freed
  *     arcs are reused), linked as a red-black tree in beach-line order and as
  *     a doubly linked list. A breakpoint is not stored: an arc's site and its
- *     left neighbour's define it, and both are copied into the arc (one
- *     64-byte record), so that each level of the search reads one cache line.
- *     An arc stores the edge record of the breakpoint to its right.
+ *     left neighbour's define it, and the arc holds both sites' indices (a
+ *     32-byte record, two to a cache line); their coordinates are read from
+ *     the sorted copy. The edge record of the breakpoint to an arc's right
+ *     is in an array beside the pool, which only events read.
  *   - Circle events: live events only, at most one per arc, each an
  *     interval for the event's y and a record index; the record holds the
  *     event, the triple of sites, the queue position and which parts of
@@ -123,16 +124,23 @@
 /* Arcs of the last sites split in, tried before a search (locate_near). */
 #define FINGERS 4
 
-/* Bytes of an arc, and the alignment of the arc pool (arcs_resize). */
-#define ARC_ALIGN 64
+/* Bytes of an arc, and the alignment of the arc pool (arcs_resize). An arc
+ * holds indices only. With its site's and its left neighbour's coordinates
+ * copied in (64 bytes), a search read one line a level and no site, but
+ * sites in convex position keep two arcs a site on the beach line, and
+ * those 128 bytes a site were the largest part of the sweep's memory:
+ * peak bytes a site 282 -> 225 for 10^6 sites on a circle, 299 -> 257
+ * for 10^5 and 354 -> 289 for 10^4; a cold run on 10^5 of them took 5%
+ * less time, one on 10^6 as long. The coordinates come from the sorted
+ * copy, where the sites of neighbouring arcs are mostly close (sorted by
+ * y), and the search fetches them a level ahead (locate). */
+#define ARC_ALIGN 32
 
 typedef struct arc {
-    double xy[2];             /* the arc's site */
-    double lxy[2];            /* the left neighbour's site, if prev != NIL */
     uint32_t site;            /* sorted site index */
+    uint32_t lsite;           /* the left neighbour's, if prev != NIL */
     uint32_t left, right, up; /* red-black tree links, NIL if none */
     uint32_t prev, next;      /* beach-line neighbours, NIL if none */
-    uint32_t edge;            /* edge record of the breakpoint with next */
     uint32_t ev; /* event record of this arc's triple, or NO_EVENT */
 } arc;
 
@@ -213,6 +221,7 @@ typedef struct sweep {
     arc *arcs;       /* ARC_ALIGN-aligned, inside arcs_block */
     void *arcs_block;
     uint8_t *red;    /* colour of each arc */
+    uint32_t *aedge; /* each arc's edge record of its breakpoint with next */
     uint32_t n_arcs; /* pool slots used, the sentinel included */
     uint32_t cap_arcs;
     uint32_t free_arcs; /* list of freed arcs through .next */
@@ -1112,15 +1121,13 @@ static uint32_t tri_ghost(sweep *w, uint32_t p, uint32_t q) {
 
 /* ---- Arc pool ------------------------------------------------------------ */
 
-_Static_assert(sizeof(arc) == ARC_ALIGN, "an arc is one cache line");
+_Static_assert(sizeof(arc) == ARC_ALIGN, "an arc is half a cache line");
 
-/* Makes the arc pool a block of cap arcs, each on a cache line of its own,
- * with the n_arcs in use copied over: 0, or -1 if out of memory (nothing
- * changed). malloc's blocks start 16 bytes into a line (a large one 16
- * bytes into its first page), which put every arc across two lines: the
- * search reads only the first (the sites, the tree links), but a circle
- * event and the renewals of its neighbours' events read the list links
- * in the second too. */
+/* Makes the arc pool a block of cap arcs, aligned so that none lies across
+ * two cache lines, with the n_arcs in use copied over: 0, or -1 if out of
+ * memory (nothing changed). malloc's blocks start 16 bytes into a line (a
+ * large one 16 bytes into its first page), which put every other arc
+ * across two. The caller grows red[] and aedge[] alike. */
 static int arcs_resize(sweep *w, size_t cap) {
     if (cap > (SIZE_MAX - ARC_ALIGN) / sizeof(arc)) return -1;
     unsigned char *block = vor__alloc_large(cap * sizeof(arc) + ARC_ALIGN, 1);
@@ -1149,18 +1156,19 @@ static uint32_t arc_new(sweep *w, uint32_t s) {
             uint8_t *nr = realloc(w->red, cap);
             if (!nr) return NIL;
             w->red = nr;
+            uint32_t *ne = realloc(w->aedge, (size_t)cap * sizeof *ne);
+            if (!ne) return NIL;
+            w->aedge = ne;
             w->cap_arcs = cap;
         }
         a = w->n_arcs++;
     }
     arc *x = &w->arcs[a];
-    const double *p = site_xy(w, s);
-    x->xy[0] = p[0];
-    x->xy[1] = p[1];
     x->site = s;
+    x->lsite = FREED_SITE;
     x->left = x->right = x->up = x->prev = x->next = NIL;
-    x->edge = NO_EDGE;
     x->ev = NO_EVENT;
+    w->aedge[a] = NO_EDGE;
     w->red[a] = 1;
     return a;
 }
@@ -1175,7 +1183,7 @@ static void arc_free(sweep *w, uint32_t a) {
  *
  * The classic algorithm with a sentinel (arc 0: black, its links scratch);
  * colours in a separate byte array. Insertion and removal also keep the
- * list links and the copies of the left neighbour's site.
+ * list links and each arc's copy of its left neighbour's site index.
  *
  *        x                y
  *       / \   left      /  \
@@ -1221,12 +1229,10 @@ static void insert_after(sweep *w, uint32_t x, uint32_t z) {
     uint32_t nx = ARC(x).next;
     ARC(z).prev = x;
     ARC(z).next = nx;
-    ARC(z).lxy[0] = ARC(x).xy[0];
-    ARC(z).lxy[1] = ARC(x).xy[1];
+    ARC(z).lsite = ARC(x).site;
     if (nx != NIL) {
         ARC(nx).prev = z;
-        ARC(nx).lxy[0] = ARC(z).xy[0];
-        ARC(nx).lxy[1] = ARC(z).xy[1];
+        ARC(nx).lsite = ARC(z).site;
     }
     ARC(x).next = z;
     ARC(z).left = ARC(z).right = NIL;
@@ -1297,8 +1303,7 @@ static void remove_arc(sweep *w, uint32_t z) {
     if (pz != NIL) ARC(pz).next = nz;
     if (nz != NIL) {
         ARC(nz).prev = pz;
-        ARC(nz).lxy[0] = ARC(z).lxy[0];
-        ARC(nz).lxy[1] = ARC(z).lxy[1];
+        ARC(nz).lsite = ARC(z).lsite;
     }
     /* With no site left, nothing searches the tree again: the events
      * left (all of them for sites in convex position below their
@@ -1402,18 +1407,21 @@ static inline int bp_side(const sweep *w, uint32_t x, const double *p,
         ++*leftmost; /* no breakpoint tested */
         return 1;
     }
-    return vor__fortune_bp_side_n(ax->lxy, ax->xy, p, w->safe, slow);
+    return vor__fortune_bp_side_n(site_xy(w, ax->lsite), site_xy(w, ax->site),
+                                  p, w->safe, slow);
 }
 
 /* The arc above site p (sweep line at p.y): the last arc whose left
  * breakpoint is not right of p. *on is set when p is exactly below that
  * breakpoint. O(log n) breakpoint tests. On a long beach line (more
- * than LOCATE_AHEAD arcs) both children of each arc are prefetched
- * before its test: where it holds a good share of the sites (coordinates
- * spread over decades: 3 * 10^5 arcs for 10^6 sites), each level below
- * the cached top is a miss, and the test's arithmetic then overlaps the
- * next one. A short one stays in the cache, and the prefetches would
- * only add instructions (1.5% of uniform sites' at 10^5). */
+ * than LOCATE_AHEAD arcs) each arc's test is preceded by prefetches of
+ * the sites its children hold (their arcs were fetched a level above)
+ * and of its four grandchildren's arcs: where it holds a good share of
+ * the sites (coordinates spread over decades: 3 * 10^5 arcs for 10^6
+ * sites), each level below the cached top is a miss, for its arc and
+ * for its sites' coordinates, and the test's arithmetic then overlaps
+ * the next ones. A short one stays in the cache, and the prefetches
+ * would only add instructions (1.5% of uniform sites' at 10^5). */
 #define LOCATE_AHEAD 4096u
 static uint32_t locate(sweep *w, const double *p, int *on) {
     const arc *arcs = w->arcs;
@@ -1425,8 +1433,17 @@ static uint32_t locate(sweep *w, const double *p, int *on) {
     while (x != NIL) {
         visited++;
         if (ahead) {
-            __builtin_prefetch(&arcs[arcs[x].left]);
-            __builtin_prefetch(&arcs[arcs[x].right]);
+            /* the children's sites (their arcs were fetched a level
+             * above) and the grandchildren's arcs */
+            const arc *l = &arcs[arcs[x].left], *r = &arcs[arcs[x].right];
+            __builtin_prefetch(site_xy(w, l->site));
+            __builtin_prefetch(site_xy(w, l->lsite));
+            __builtin_prefetch(site_xy(w, r->site));
+            __builtin_prefetch(site_xy(w, r->lsite));
+            __builtin_prefetch(&arcs[l->left]);
+            __builtin_prefetch(&arcs[l->right]);
+            __builtin_prefetch(&arcs[r->left]);
+            __builtin_prefetch(&arcs[r->right]);
         }
         int side = bp_side(w, x, p, &leftmost, &slow);
         if (side > 0) {
@@ -2564,9 +2581,10 @@ static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
     const arc *x = &w->arcs[b];
     if (x->prev == NIL || x->next == NIL) return 0;
     const arc *z = &w->arcs[x->next];
-    if (ARC(x->prev).site == z->site) return 0;
+    if (x->lsite == z->site) return 0;
     w->cnt.circle_tops++;
-    int o = vor__fortune_circle_top(x->lxy, x->xy, z->xy, w->safe, lo, hi);
+    int o = vor__fortune_circle_top(site_xy(w, x->lsite), site_xy(w, x->site),
+                                    site_xy(w, z->site), w->safe, lo, hi);
     /* collinear: only exact arithmetic says so (the callers count the
      * converging triples whose top has no bound, as they read lo) */
     if (o == 0) w->cnt.circle_top_exact++;
@@ -2576,7 +2594,7 @@ static inline int event_of(sweep *w, uint32_t b, double *lo, double *hi) {
 /* Fills record r for arc b's current triple. */
 static inline void rec_fill(sweep *w, uint32_t r, uint32_t b) {
     evrec *rec = &w->rr[r];
-    rec->s[0] = ARC(ARC(b).prev).site;
+    rec->s[0] = ARC(b).lsite;
     rec->s[1] = ARC(b).site;
     rec->s[2] = ARC(ARC(b).next).site;
     w->rr[r].known &= HAS_SLOT; /* nothing known about ties yet */
@@ -2733,9 +2751,9 @@ static vor_status site_event(sweep *w, uint32_t i) {
         uint32_t b2 = arc_new(w, ARC(b).site);
         if (b2 == NIL) return VOR_ENOMEM;
         uint32_t e = edge_new(w);
-        ARC(b2).edge = ARC(b).edge;
-        ARC(b).edge = e;
-        ARC(s).edge = e;
+        w->aedge[b2] = w->aedge[b];
+        w->aedge[b] = e;
+        w->aedge[s] = e;
         insert_after(w, b, s);
         insert_after(w, s, b2);
         memmove(w->finger + 1, w->finger, (FINGERS - 1) * sizeof *w->finger);
@@ -2755,11 +2773,11 @@ static vor_status site_event(sweep *w, uint32_t i) {
     /* triangle (l, r, i): i, on the sweep line, is the top of the circle
      * and l the left arc, so the three are counter-clockwise */
     uint32_t h = tri_new(w, ARC(l).site, ARC(r).site, i);
-    edge_end(w, ARC(l).edge, h);
-    ARC(l).edge = edge_new(w);
-    edge_end(w, ARC(l).edge, h + 2);
-    ARC(s).edge = edge_new(w);
-    edge_end(w, ARC(s).edge, h + 1);
+    edge_end(w, w->aedge[l], h);
+    w->aedge[l] = edge_new(w);
+    edge_end(w, w->aedge[l], h + 2);
+    w->aedge[s] = edge_new(w);
+    edge_end(w, w->aedge[s], h + 1);
     insert_after(w, l, s);
     w->cnt.breakpoint_hits++;
     if (++w->n_beach > w->cnt.beach_max) w->cnt.beach_max = w->n_beach;
@@ -2784,10 +2802,10 @@ static vor_status circle_event(sweep *w, uint32_t b, double lo, double hi) {
     __builtin_prefetch(&w->arcs[ARC(c).next]);
     /* the breakpoints converge: orient2d(a, b, c) > 0 */
     uint32_t h = tri_new(w, ARC(a).site, ARC(b).site, ARC(c).site);
-    edge_end(w, ARC(a).edge, h);
-    edge_end(w, ARC(b).edge, h + 1);
-    ARC(a).edge = edge_new(w);
-    edge_end(w, ARC(a).edge, h + 2);
+    edge_end(w, w->aedge[a], h);
+    edge_end(w, w->aedge[b], h + 1);
+    w->aedge[a] = edge_new(w);
+    edge_end(w, w->aedge[a], h + 2);
     vor_status st;
     w->cnt.circle_events++;
     remove_arc(w, b);
@@ -2897,7 +2915,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
     while (i < n && w->xy[2 * i + 1] == w->xy[1]) {
         uint32_t s = arc_new(w, (uint32_t)i);
         if (s == NIL) return VOR_ENOMEM;
-        ARC(last).edge = edge_new(w);
+        w->aedge[last] = edge_new(w);
         insert_after(w, last, s);
         last = s;
         i++;
@@ -2961,7 +2979,7 @@ static vor_status sweep_run(sweep *w, uint32_t *first) {
             const arc *ab = &w->arcs[b];
             __builtin_prefetch(&w->arcs[ab->prev]);
             __builtin_prefetch(&w->arcs[ab->next]);
-            __builtin_prefetch(&w->ehe[ab->edge]);
+            __builtin_prefetch(&w->ehe[w->aedge[b]]);
             drop_event(w, b);
             st = circle_event(w, b, lo, hi);
         } else if (i < n) {
@@ -2978,6 +2996,7 @@ static void sweep_free(sweep *w) {
     free(w->orig);
     free(w->arcs_block);
     free(w->red);
+    free(w->aedge);
     free(w->rr);
     free(w->side);
     vor__scratch_free(w->bhead);
@@ -3011,7 +3030,7 @@ static void close_hull(sweep *w, uint32_t first) {
     const size_t g0 = w->n_tri;
     for (uint32_t x = first; ARC(x).next != NIL; x = ARC(x).next) {
         uint32_t h = tri_ghost(w, ARC(x).site, ARC(ARC(x).next).site);
-        edge_end(w, ARC(x).edge, h);
+        edge_end(w, w->aedge[x], h);
     }
     for (uint32_t j = w->row - 1; j > 0; j--) {
         uint32_t h = tri_ghost(w, j, j - 1);
@@ -3081,13 +3100,16 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
      * time on 10^5 sites on a circle). Where the address space is short,
      * the arrays start small and double. */
     w.cap_arcs = (uint32_t)(2 * w.n + 2);
-    while (arcs_resize(&w, w.cap_arcs) ||
-           !(w.red = malloc(w.cap_arcs)) || recs_resize(&w, w.cap_arcs)) {
+    while (arcs_resize(&w, w.cap_arcs) || !(w.red = malloc(w.cap_arcs)) ||
+           !(w.aedge = vor__alloc_large(w.cap_arcs, sizeof *w.aedge)) ||
+           recs_resize(&w, w.cap_arcs)) {
         free(w.arcs_block);
         free(w.red);
+        free(w.aedge);
         w.arcs_block = NULL;
         w.arcs = NULL;
         w.red = NULL;
+        w.aedge = NULL;
         if (w.cap_arcs <= 64) goto fail;
         w.cap_arcs = 64;
     }
@@ -3095,7 +3117,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
     w.ehe = malloc(w.cap_edges * sizeof *w.ehe); /* mostly never touched */
     w.free_edges = NO_EDGE;
     w.ws = vor__fortune_ws_new();
-    if (!w.arcs || !w.red || !w.ehe || !w.ws)
+    if (!w.arcs || !w.red || !w.aedge || !w.ehe || !w.ws)
         goto fail;
     w.late_ok = 1;
     w.ylast = w.xy[2 * w.n - 1];
@@ -3108,6 +3130,7 @@ vor_status vor__fortune_run(const vor_sites *s, vor__run *run,
         memset(w.bhead, 0xff, w.n_buckets * sizeof *w.bhead); /* empty */
     }
     memset(&w.arcs[NIL], 0, sizeof w.arcs[NIL]); /* the sentinel: black */
+    w.aedge[NIL] = NO_EDGE;
     w.red[NIL] = 0;
     w.n_arcs = 1;
     w.free_arcs = NIL;

@@ -225,11 +225,11 @@ static void input_problem(srv_reply *out, const api_problem *p,
  * JSON answer about 320 bytes a point with the default parts. The
  * estimates below round these up, and cover the worst inputs measured
  * (bench_algo's peak_bpp over about seventy kinds of point set): Fortune's
- * sweep keeps an arc for every site of a set in convex position, and an
- * event for most, up to 325 bytes a point in the core (10^6 points on a
- * circle; 312 for a parabola; 360 on the whole for the circle, VmHWM of
- * `voronoi --algorithm fortune`), where Bowyer-Watson and flip stay
- * under 210. A comparison that runs each algorithm more than once runs
+ * sweep keeps two arcs for every site of a set in convex position, and
+ * an event for most, up to 235 bytes a point in the core at 10^6 points
+ * (a parabola; 226 for a circle; 289 for 10^4 points on a circle; 273 on
+ * the whole for 10^6 on the parabola, VmHWM of `voronoi --algorithm
+ * fortune`), where Bowyer-Watson and flip stay under 210. A comparison that runs each algorithm more than once runs
  * Fortune again with the other two diagrams held (709 bytes a point for
  * a circle of 10^6 points, 620 for uniform ones, with two runs each). */
 #define BPP_COMPUTE 260
