@@ -1165,7 +1165,8 @@ static uint32_t arc_new(sweep *w, uint32_t s) {
     }
     arc *x = &w->arcs[a];
     x->site = s;
-    x->lsite = FREED_SITE;
+    x->lsite = 0; /* none while prev is NIL, but a site all the same: the
+                   * search prefetches the sites of the arcs it passes */
     x->left = x->right = x->up = x->prev = x->next = NIL;
     x->ev = NO_EVENT;
     w->aedge[a] = NO_EDGE;
