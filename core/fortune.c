@@ -2798,8 +2798,9 @@ static vor_status circle_event(sweep *w, uint32_t b, double lo, double hi) {
     uint32_t a = ARC(b).prev, c = ARC(b).next;
     const uint32_t t[3] = {ARC(a).site, ARC(b).site, ARC(c).site};
     vertex_at(w, lo, hi, t);
-    /* the arcs next to a and c, which their renewals read */
-    __builtin_prefetch(&w->arcs[ARC(a).prev]);
+    /* what the renewals read besides a and c: the arc after c, and the
+     * site left of a (a names it) */
+    __builtin_prefetch(site_xy(w, ARC(a).lsite));
     __builtin_prefetch(&w->arcs[ARC(c).next]);
     /* the breakpoints converge: orient2d(a, b, c) > 0 */
     uint32_t h = tri_new(w, ARC(a).site, ARC(b).site, ARC(c).site);
