@@ -229,9 +229,11 @@ static void input_problem(srv_reply *out, const api_problem *p,
  * an event for most, up to 235 bytes a point in the core at 10^6 points
  * (a parabola; 226 for a circle; 289 for 10^4 points on a circle; 273 on
  * the whole for 10^6 on the parabola, VmHWM of `voronoi --algorithm
- * fortune`), where Bowyer-Watson and flip stay under 210. A comparison that runs each algorithm more than once runs
- * Fortune again with the other two diagrams held (709 bytes a point for
- * a circle of 10^6 points, 620 for uniform ones, with two runs each). */
+ * fortune`), where Bowyer-Watson and flip stay under 210. A comparison
+ * that runs each algorithm more than once runs Fortune again with the
+ * other two diagrams held (709 bytes a point for a circle of 10^6
+ * points, 620 for uniform ones, with two runs each, measured when
+ * Fortune's arcs were twice their size). */
 #define BPP_COMPUTE 260
 #define BPP_FORTUNE 450
 #define BPP_CLIP 260
