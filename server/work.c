@@ -226,14 +226,17 @@ static void input_problem(srv_reply *out, const api_problem *p,
  * estimates below round these up, and cover the worst inputs measured
  * (bench_algo's peak_bpp over about seventy kinds of point set): Fortune's
  * sweep keeps two arcs for every site of a set in convex position, and
- * an event for most, up to 235 bytes a point in the core at 10^6 points
- * (a parabola; 226 for a circle; 289 for 10^4 points on a circle; 273 on
- * the whole for 10^6 on the parabola, VmHWM of `voronoi --algorithm
- * fortune`), where Bowyer-Watson and flip stay under 210. A comparison
+ * an event for most, and three arcs for two sites on two lines: up to
+ * 313 bytes a point in the core at 10^6 points (two lines; 235 for a
+ * parabola, 226 for a circle, 289 for 10^4 points on a circle). On the
+ * whole, VmHWM of `voronoi --algorithm fortune --format timings` less
+ * that of 10 points, the most was 353 bytes a point (two lines, 10^6)
+ * and 319 (a polygon, 10^4), where flip stays under 220. A comparison
  * that runs each algorithm more than once runs Fortune again with the
- * other two diagrams held (709 bytes a point for a circle of 10^6
- * points, 620 for uniform ones, with two runs each, measured when
- * Fortune's arcs were twice their size). */
+ * other two diagrams held: with two runs each, `voronoi --compare
+ * --repeat 2` on 10^6 points held 666 bytes a point for two lines, 640
+ * for uniform points and 607 for a circle; with one run, 380 for two
+ * lines. */
 #define BPP_COMPUTE 260
 #define BPP_FORTUNE 450
 #define BPP_CLIP 260
