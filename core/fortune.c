@@ -234,7 +234,7 @@ typedef struct sweep {
     /* the arc of the last site split in within each of XDIR slices of
      * x, cut at quantiles of the sites' x (xcut, XDIR - 1 of them), and
      * how often lately the next site fell in its slice's arc (see
-     * locate_hint); NULL until the beach line first holds more than
+     * locate_from); NULL until the beach line first holds more than
      * LOCATE_AHEAD arcs */
     uint32_t *xdir;
     double *xcut;
@@ -1484,31 +1484,57 @@ static uint32_t locate(sweep *w, const double *p, int *on) {
  * four. Elsewhere they are not, so they are tried only while most
  * sites lately fell in one of them: finger_score follows that share
  * (FINGER_ONE is all of them), and costs a few comparisons a site to
- * keep. A freed arc is none (its site is FREED_SITE); one freed and
- * taken again is tested like any other. */
+ * keep. */
 #define FINGER_ONE 256u
 #define FINGER_ON (FINGER_ONE / 2)
 
-/* The arc above site p if it is one of the fingers and p lies strictly
- * between its breakpoints, else NIL (then locate decides, and also
- * whether p lies exactly below a breakpoint). */
-static uint32_t locate_near(sweep *w, const double *p) {
-    uint64_t leftmost = 0, slow = 0, tests = 0;
+/* The arc above site p if it is arc h, or one of the `steps` arcs on
+ * either side of h, and p lies strictly between its breakpoints, else
+ * NIL (then locate decides, and also whether p lies exactly below a
+ * breakpoint). A freed arc (its site FREED_SITE) or NIL is none; one
+ * freed and taken again is tried like any other. Inlined with steps a
+ * constant: 0 for the fingers, HINT_STEPS for a slice's arc. */
+static inline uint32_t locate_from(sweep *w, const double *p, uint32_t h,
+                                   int steps) {
+    if (h == NIL || ARC(h).site == FREED_SITE) return NIL;
+    uint64_t leftmost = 0, slow = 0, tests = 1;
     uint32_t found = NIL;
-    for (int f = 0; f < FINGERS && found == NIL; f++) {
-        uint32_t x = w->finger[f];
-        if (x == NIL || ARC(x).site == FREED_SITE) continue;
-        tests++;
-        if (bp_side(w, x, p, &leftmost, &slow) <= 0) continue;
-        uint32_t y = ARC(x).next;
-        if (y != NIL) {
+    int side = bp_side(w, h, p, &leftmost, &slow);
+    if (side < 0) { /* p is left of h: the first arc left of it that
+                     * holds p is the one (its right breakpoint was h's) */
+        for (int k = 0; k < steps && side < 0; k++) {
+            h = ARC(h).prev; /* h's breakpoint is right of p: h has one */
             tests++;
-            if (bp_side(w, y, p, &leftmost, &slow) >= 0) continue;
+            side = bp_side(w, h, p, &leftmost, &slow);
         }
-        found = x;
+        if (side > 0) found = h;
+    } else if (side > 0) {
+        for (int k = 0;; k++) {
+            uint32_t y = ARC(h).next;
+            int next = 0;
+            if (y != NIL) {
+                tests++;
+                next = bp_side(w, y, p, &leftmost, &slow);
+            }
+            if (y == NIL || next < 0) {
+                found = h;
+                break;
+            }
+            if (next == 0 || k == steps) break;
+            h = y;
+        }
     }
     w->cnt.breakpoint_tests += tests - leftmost;
     w->cnt.breakpoint_exact += slow;
+    return found;
+}
+
+/* The arc above site p if it is one of the fingers and p lies strictly
+ * between its breakpoints, else NIL. */
+static uint32_t locate_near(sweep *w, const double *p) {
+    uint32_t found = NIL;
+    for (int f = 0; f < FINGERS && found == NIL; f++)
+        found = locate_from(w, p, w->finger[f], 0);
     return found;
 }
 
@@ -1529,7 +1555,7 @@ static uint32_t locate_near(sweep *w, const double *p) {
 #define XDIR 256u
 #define XDIR_SAMPLE 4096u
 #define XDIR_ON (FINGER_ONE * 3 / 4)
-/* Arcs a hint may walk past, each way. */
+/* Arcs a slice's arc may be walked past, each way (locate_from). */
 #define HINT_STEPS 2
 
 /* Makes the slices (once): 1 if they are there, 0 if out of memory
@@ -1558,43 +1584,6 @@ static inline uint32_t xslice(const sweep *w, double x) {
     for (uint32_t step = XDIR / 2; step; step >>= 1)
         k += x >= w->xcut[k + step - 1] ? step : 0;
     return k;
-}
-
-/* The arc above site p if it is arc h or within HINT_STEPS arcs of it and
- * p lies strictly between its breakpoints, else NIL (then locate
- * decides, and also whether p lies exactly below a breakpoint). */
-static uint32_t locate_hint(sweep *w, const double *p, uint32_t h) {
-    if (h == NIL || ARC(h).site == FREED_SITE) return NIL;
-    uint64_t leftmost = 0, slow = 0, tests = 1;
-    uint32_t found = NIL;
-    int side = bp_side(w, h, p, &leftmost, &slow);
-    if (side < 0) { /* p is left of h: the first arc left of it that
-                     * holds p is the one (its right breakpoint was h's) */
-        for (int k = 0; k < HINT_STEPS && side < 0; k++) {
-            h = ARC(h).prev; /* h's breakpoint is right of p: h has one */
-            tests++;
-            side = bp_side(w, h, p, &leftmost, &slow);
-        }
-        if (side > 0) found = h;
-    } else if (side > 0) {
-        for (int k = 0;; k++) {
-            uint32_t y = ARC(h).next;
-            int next = 0;
-            if (y != NIL) {
-                tests++;
-                next = bp_side(w, y, p, &leftmost, &slow);
-            }
-            if (y == NIL || next < 0) {
-                found = h;
-                break;
-            }
-            if (next == 0 || k == HINT_STEPS) break;
-            h = y;
-        }
-    }
-    w->cnt.breakpoint_tests += tests - leftmost;
-    w->cnt.breakpoint_exact += slow;
-    return found;
 }
 
 /* ---- Trace -----------------------------------------------------------------
@@ -2836,7 +2825,7 @@ static vor_status site_event(sweep *w, uint32_t i) {
         slot = &w->xdir[xslice(w, p[0])];
         hint = *slot;
         if (b == NIL && w->xdir_score >= XDIR_ON)
-            b = hinted = locate_hint(w, p, hint);
+            b = hinted = locate_from(w, p, hint, HINT_STEPS);
     }
     if (b == NIL) b = locate(w, p, &on);
     int fell = 0;
